@@ -1,0 +1,39 @@
+"""upperpose: real-time 3D upper-body pose from one ordinary camera, with no trained model.
+
+The method follows an annealed-particle-swarm thesis (see docs/): a truncated-cone body model
+is projected into each frame and matched against image features.
+"""
+
+from upperpose._upperpose import __version__, joint_limits
+from upperpose.exceptions import UpperposeError, VideoError
+from upperpose.model import (
+    ANGLE_NAMES,
+    JOINT_NAMES,
+    PART_NAMES,
+    BodyModel,
+    Camera,
+    Pose,
+    forward_kinematics,
+    project,
+    render_masks,
+    skeleton,
+    solids,
+)
+
+__all__ = [
+    "ANGLE_NAMES",
+    "JOINT_NAMES",
+    "PART_NAMES",
+    "BodyModel",
+    "Camera",
+    "Pose",
+    "UpperposeError",
+    "VideoError",
+    "__version__",
+    "forward_kinematics",
+    "joint_limits",
+    "project",
+    "render_masks",
+    "skeleton",
+    "solids",
+]

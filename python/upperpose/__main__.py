@@ -1,0 +1,7 @@
+"""`python -m upperpose` runs the command line."""
+
+import sys
+
+from upperpose.cli import main
+
+sys.exit(main())

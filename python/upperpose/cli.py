@@ -1,0 +1,58 @@
+"""The `upperpose` command line: one subcommand per module in `upperpose.commands`."""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import os
+import sys
+from collections.abc import Sequence
+
+from upperpose import __version__
+from upperpose.exceptions import UpperposeError
+
+# Subcommand modules; each defines NAME, HELP, add_arguments(parser) and run(args) -> int.
+COMMAND_MODULES = ("render",)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser with every subcommand."""
+    parser = argparse.ArgumentParser(
+        prog="upperpose",
+        description="3D upper-body pose from one ordinary camera, in real time, with no trained model.",
+    )
+    parser.add_argument("--version", action="version", version=f"upperpose {__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    for name in COMMAND_MODULES:
+        module = importlib.import_module(f"upperpose.commands.{name}")
+        p = sub.add_parser(module.NAME, help=module.HELP, description=module.HELP)
+        module.add_arguments(p)
+        p.set_defaults(run=module.run)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Runs the command line; returns the exit status (0 ok, 1 error, 2 usage, 130 interrupted).
+
+    Errors about the input (bad files, bad values) print one line on stderr instead of a
+    traceback; set UPPERPOSE_DEBUG=1 to see the traceback.
+    """
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if not getattr(args, "run", None):
+        parser.print_help()
+        return 2
+    try:
+        return int(args.run(args))
+    except KeyboardInterrupt:
+        print("upperpose: interrupted", file=sys.stderr)
+        return 130
+    except (UpperposeError, ValueError, TypeError, OSError) as err:
+        if os.environ.get("UPPERPOSE_DEBUG"):
+            raise
+        print(f"upperpose {args.command}: error: {err}", file=sys.stderr)
+        return 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,1 @@
+"""Subcommands of the `upperpose` command line, one module each."""

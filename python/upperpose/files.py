@@ -1,0 +1,50 @@
+"""Writing output files whole or not at all."""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from collections.abc import Callable
+from pathlib import Path
+
+import cv2
+import numpy as np
+import numpy.typing as npt
+
+from upperpose.exceptions import VideoError
+
+
+def write_atomic(path: str | os.PathLike[str], write: Callable[[Path], None]) -> Path:
+    """Calls `write(tmp)` on a temporary file beside `path`, then renames it onto `path`.
+
+    A reader never sees half a file: either the old file (or none) or the whole new one.
+    The temporary file keeps the target's suffix so that writers choosing a format by suffix
+    (OpenCV) pick the right one.
+
+    Raises:
+        OSError: the folder does not exist or is not writable.
+    """
+    target = Path(path)
+    folder = target.parent if str(target.parent) else Path(".")
+    if not folder.is_dir():
+        raise OSError(f"cannot write {target}: folder {folder} does not exist")
+    fd, tmp_name = tempfile.mkstemp(prefix=f".{target.name}.", suffix=target.suffix, dir=folder)
+    os.close(fd)
+    tmp = Path(tmp_name)
+    try:
+        write(tmp)
+        os.replace(tmp, target)
+    finally:
+        if tmp.exists():
+            tmp.unlink()
+    return target
+
+
+def write_image(path: str | os.PathLike[str], image: npt.NDArray[np.uint8]) -> Path:
+    """Writes an image atomically; the format follows the suffix (.png, .jpg, ...)."""
+
+    def write(tmp: Path) -> None:
+        if not cv2.imwrite(str(tmp), image):
+            raise VideoError(f"cannot encode an image as {Path(path).suffix or 'a file without suffix'}: {path}")
+
+    return write_atomic(path, write)

@@ -1,0 +1,167 @@
+//! Forward kinematics (thesis Fig. 2.2.3-5): pose and root position to 3D joints and solids.
+//!
+//! Frames follow SPEC 2: OpenCV's camera frame (X right in the image, Y down, Z away from the
+//! camera, metres). The body frame sits at the root with the camera's axes when the torso
+//! angles are zero. Every rotation is about the parent's axes, composed `Rz * Ry * Rx`.
+//! Signs are chosen so that a positive angle is the named anatomical motion; the left arm
+//! mirrors the right through the body's sagittal plane (X -> -X), which flips the sign of its
+//! rotations about Y and Z. See docs/body-model.md.
+
+use crate::body::BodyModel;
+use crate::pose::{Dof, Pose};
+use nalgebra::{Matrix3, Rotation3, Vector3};
+
+/// The seven joints of SPEC 9, in output order.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[repr(usize)]
+pub enum Joint {
+    Head = 0,
+    RightShoulder,
+    LeftShoulder,
+    RightElbow,
+    LeftElbow,
+    RightHand,
+    LeftHand,
+}
+
+/// Joint names in output order.
+pub const JOINT_NAMES: [&str; 7] = [
+    "head",
+    "right_shoulder",
+    "left_shoulder",
+    "right_elbow",
+    "left_elbow",
+    "right_hand",
+    "left_hand",
+];
+
+/// Which arm.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Side {
+    Right,
+    Left,
+}
+
+impl Side {
+    /// +1 for the right arm, -1 for the left: the mirror factor on the body's X axis.
+    fn mirror(self) -> f64 {
+        match self {
+            Side::Right => 1.0,
+            Side::Left => -1.0,
+        }
+    }
+
+    /// The arm's five angles: y_up, x_up, z_up, x_down, y_down.
+    fn dofs(self) -> [Dof; 5] {
+        match self {
+            Side::Right => [Dof::RightYUp, Dof::RightXUp, Dof::RightZUp, Dof::RightXDown, Dof::RightYDown],
+            Side::Left => [Dof::LeftYUp, Dof::LeftXUp, Dof::LeftZUp, Dof::LeftXDown, Dof::LeftYDown],
+        }
+    }
+}
+
+/// Euler composition `Rz(z) * Ry(y) * Rx(x)` of Fig. 2.2.3-5.
+pub fn euler_zyx(z: f64, y: f64, x: f64) -> Matrix3<f64> {
+    let rz = Rotation3::from_axis_angle(&Vector3::z_axis(), z);
+    let ry = Rotation3::from_axis_angle(&Vector3::y_axis(), y);
+    let rx = Rotation3::from_axis_angle(&Vector3::x_axis(), x);
+    (rz * ry * rx).into_inner()
+}
+
+/// Orientation of the torso in the camera frame.
+pub fn torso_rotation(pose: &Pose) -> Matrix3<f64> {
+    euler_zyx(pose.get(Dof::TorsoZ), pose.get(Dof::TorsoY), pose.get(Dof::TorsoX))
+}
+
+/// Orientation of the upper arm relative to the torso. At zero the arm hangs along +Y.
+/// Right arm: +z_up swings it out to the subject's right (-X), +x_up forwards to the camera
+/// (-Z), +y_up turns it inwards (internal rotation). The left arm mirrors these.
+pub fn shoulder_rotation(pose: &Pose, side: Side) -> Matrix3<f64> {
+    let [y_up, x_up, z_up, _, _] = side.dofs().map(|d| pose.get(d));
+    let m = side.mirror();
+    euler_zyx(m * z_up, -m * y_up, -x_up)
+}
+
+/// Orientation of the forearm relative to the upper arm: +x_down bends the elbow, bringing the
+/// hand forwards; y_down twists the forearm about its own axis, so it never moves a joint.
+/// The twist is applied first (innermost) for exactly that reason; see docs/body-model.md.
+pub fn elbow_rotation(pose: &Pose, side: Side) -> Matrix3<f64> {
+    let [_, _, _, x_down, y_down] = side.dofs().map(|d| pose.get(d));
+    euler_zyx(0.0, 0.0, -x_down) * euler_zyx(0.0, -side.mirror() * y_down, 0.0)
+}
+
+/// One arm in the camera frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ArmFrames {
+    pub shoulder: Vector3<f64>,
+    pub elbow: Vector3<f64>,
+    pub hand: Vector3<f64>,
+    /// Orientation of the upper arm (its local +Y runs shoulder to elbow).
+    pub upper: Matrix3<f64>,
+    /// Orientation of the forearm (its local +Y runs elbow to hand).
+    pub lower: Matrix3<f64>,
+}
+
+/// The posed skeleton in the camera frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Skeleton {
+    pub root: Vector3<f64>,
+    pub torso: Matrix3<f64>,
+    pub head: Vector3<f64>,
+    /// Midpoint of the shoulders, where the neck starts.
+    pub neck_base: Vector3<f64>,
+    pub right: ArmFrames,
+    pub left: ArmFrames,
+}
+
+impl Skeleton {
+    /// The seven joints of SPEC 9 in output order, metres in the camera frame.
+    pub fn joints(&self) -> [Vector3<f64>; 7] {
+        [
+            self.head,
+            self.right.shoulder,
+            self.left.shoulder,
+            self.right.elbow,
+            self.left.elbow,
+            self.right.hand,
+            self.left.hand,
+        ]
+    }
+
+    /// One arm.
+    pub fn arm(&self, side: Side) -> &ArmFrames {
+        match side {
+            Side::Right => &self.right,
+            Side::Left => &self.left,
+        }
+    }
+}
+
+/// Poses the body: `root` is the root's position in the camera frame (metres).
+pub fn skeleton_from_pose(pose: &Pose, root: &Vector3<f64>, body: &BodyModel) -> Skeleton {
+    let torso = torso_rotation(pose);
+    let at = |local: Vector3<f64>| root + torso * local;
+    let arm = |side: Side| {
+        let shoulder_local = Vector3::new(-side.mirror() * body.shoulder_width / 2.0, -body.shoulder_height, 0.0);
+        let upper = torso * shoulder_rotation(pose, side);
+        let lower = upper * elbow_rotation(pose, side);
+        let shoulder = at(shoulder_local);
+        let elbow = shoulder + upper * Vector3::new(0.0, body.upper_arm_length, 0.0);
+        let hand = elbow + lower * Vector3::new(0.0, body.lower_arm_length, 0.0);
+        ArmFrames {
+            shoulder,
+            elbow,
+            hand,
+            upper,
+            lower,
+        }
+    };
+    Skeleton {
+        root: *root,
+        torso,
+        head: at(Vector3::new(0.0, -body.shoulder_height - body.head_offset, 0.0)),
+        neck_base: at(Vector3::new(0.0, -body.shoulder_height, 0.0)),
+        right: arm(Side::Right),
+        left: arm(Side::Left),
+    }
+}

@@ -1,0 +1,442 @@
+//! Scanline rasterisation of outlines into row spans and bit-packed masks.
+//!
+//! A pixel belongs to a shape when its centre (integer coordinates, see [`crate::camera`])
+//! lies inside or on the exact outline. Every outline here is convex, so it covers one run of
+//! pixels per row: a [`Span`]. Spans are the compact form the cost evaluation consumes;
+//! [`BitMask`] packs 64 pixels per word so that masks compare by AND and popcount.
+
+use crate::error::{CoreError, Result};
+use crate::outline::{Ellipse, Outline};
+use nalgebra::Vector2;
+
+/// A rectangle of the image: columns `x..x + width`, rows `y..y + height`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Roi {
+    pub x: i32,
+    pub y: i32,
+    pub width: u32,
+    pub height: u32,
+}
+
+impl Roi {
+    /// The whole image.
+    pub fn full(width: u32, height: u32) -> Self {
+        Roi {
+            x: 0,
+            y: 0,
+            width,
+            height,
+        }
+    }
+
+    /// A region that must be non-empty and lie inside a `width x height` image.
+    pub fn inside(x: i64, y: i64, w: i64, h: i64, width: u32, height: u32) -> Result<Self> {
+        let ok = w > 0 && h > 0 && x >= 0 && y >= 0 && x + w <= i64::from(width) && y + h <= i64::from(height);
+        if !ok {
+            return Err(CoreError::InvalidRoi {
+                roi: (x, y, w, h),
+                width,
+                height,
+            });
+        }
+        // The bounds check above keeps every value within the image's u32 size.
+        Ok(Roi {
+            x: i32::try_from(x).unwrap_or(i32::MAX),
+            y: i32::try_from(y).unwrap_or(i32::MAX),
+            width: u32::try_from(w).unwrap_or(0),
+            height: u32::try_from(h).unwrap_or(0),
+        })
+    }
+
+    fn x_end(&self) -> i32 {
+        self.x + self.width as i32
+    }
+
+    fn y_end(&self) -> i32 {
+        self.y + self.height as i32
+    }
+}
+
+/// The half-open run of columns `x0..x1` of one row; empty when `x0 >= x1`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Span {
+    pub x0: i32,
+    pub x1: i32,
+}
+
+impl Span {
+    /// The empty span.
+    pub const EMPTY: Span = Span { x0: 0, x1: 0 };
+
+    /// Number of pixels.
+    pub fn len(&self) -> u32 {
+        (self.x1 - self.x0).max(0) as u32
+    }
+
+    /// Whether it holds no pixel.
+    pub fn is_empty(&self) -> bool {
+        self.x1 <= self.x0
+    }
+}
+
+/// One span per row for rows `y0..y0 + spans.len()`, in image coordinates.
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct RowSpans {
+    pub y0: i32,
+    pub spans: Vec<Span>,
+}
+
+impl RowSpans {
+    /// Number of pixels covered.
+    pub fn area(&self) -> u64 {
+        self.spans.iter().map(|s| u64::from(s.len())).sum()
+    }
+
+    /// The span of image row `y` (empty outside the rows held).
+    pub fn row(&self, y: i32) -> Span {
+        usize::try_from(y - self.y0)
+            .ok()
+            .and_then(|i| self.spans.get(i).copied())
+            .unwrap_or(Span::EMPTY)
+    }
+}
+
+/// Row-span evaluation of one ellipse, with its per-row constants precomputed.
+#[derive(Debug, Clone, Copy)]
+struct EllipseRows {
+    cx: f64,
+    cy: f64,
+    syy: f64,
+    shear: f64,
+    width2: f64,
+}
+
+impl EllipseRows {
+    /// `None` for an ellipse of (numerically) no area: it holds no pixel centre.
+    fn new(e: &Ellipse) -> Option<Self> {
+        let det = e.det();
+        if !(det > 1e-18 && e.syy > 0.0) {
+            return None;
+        }
+        Some(EllipseRows {
+            cx: e.cx,
+            cy: e.cy,
+            syy: e.syy,
+            shear: e.sxy / e.syy,
+            width2: det / (e.syy * e.syy),
+        })
+    }
+
+    fn rows(&self) -> (f64, f64) {
+        let h = self.syy.sqrt();
+        (self.cy - h, self.cy + h)
+    }
+
+    /// The x-interval at height `y`, as (lo, hi); lo > hi when the row misses.
+    #[inline]
+    fn at(&self, y: f64) -> (f64, f64) {
+        let dy = y - self.cy;
+        let t = self.syy - dy * dy;
+        if t < 0.0 {
+            return (f64::INFINITY, f64::NEG_INFINITY);
+        }
+        let mid = self.cx + self.shear * dy;
+        let half = (self.width2 * t).sqrt();
+        (mid - half, mid + half)
+    }
+}
+
+/// One edge of a convex polygon as a bound on x per row: `x = ax + slope (y - ay)`.
+#[derive(Debug, Clone, Copy)]
+enum EdgeBound {
+    Upper { ax: f64, ay: f64, slope: f64 },
+    Lower { ax: f64, ay: f64, slope: f64 },
+    /// A horizontal edge: rows on the wrong side of `ay` miss the polygon.
+    Horizontal { ay: f64, below: bool },
+}
+
+fn edge_bounds(quad: &[Vector2<f64>; 4]) -> Option<[EdgeBound; 4]> {
+    let area2: f64 = (0..4)
+        .map(|i| {
+            let (a, b) = (quad[i], quad[(i + 1) % 4]);
+            a.x * b.y - a.y * b.x
+        })
+        .sum();
+    if area2.abs() < 1e-9 {
+        return None; // A quadrilateral of no area adds no pixel to the ellipses.
+    }
+    let s = area2.signum();
+    let mut out = [EdgeBound::Horizontal { ay: 0.0, below: true }; 4];
+    for (i, slot) in out.iter_mut().enumerate() {
+        let (a, b) = (quad[i], quad[(i + 1) % 4]);
+        let (ex, ey) = (b.x - a.x, b.y - a.y);
+        // Inside is where s * cross(e, p - a) >= 0, i.e. s*ex*(y-ay) >= s*ey*(x-ax).
+        *slot = if ey == 0.0 {
+            EdgeBound::Horizontal {
+                ay: a.y,
+                below: s * ex > 0.0,
+            }
+        } else if s * ey > 0.0 {
+            EdgeBound::Upper {
+                ax: a.x,
+                ay: a.y,
+                slope: ex / ey,
+            }
+        } else {
+            EdgeBound::Lower {
+                ax: a.x,
+                ay: a.y,
+                slope: ex / ey,
+            }
+        };
+    }
+    Some(out)
+}
+
+/// An outline prepared for scanning rows.
+#[derive(Debug, Clone, Copy)]
+pub struct Scanner {
+    ellipses: [Option<EllipseRows>; 2],
+    quad: Option<[EdgeBound; 4]>,
+    y_min: f64,
+    y_max: f64,
+}
+
+impl Scanner {
+    /// Prepares an outline for rasterisation.
+    pub fn new(outline: &Outline) -> Self {
+        let ellipses = outline.ellipses.map(|e| e.as_ref().and_then(EllipseRows::new));
+        let quad = outline.quad.as_ref().and_then(edge_bounds);
+        let (mut y_min, mut y_max) = (f64::INFINITY, f64::NEG_INFINITY);
+        for e in ellipses.iter().flatten() {
+            let (lo, hi) = e.rows();
+            y_min = y_min.min(lo);
+            y_max = y_max.max(hi);
+        }
+        if let (Some(_), Some(q)) = (quad, outline.quad) {
+            for v in q {
+                y_min = y_min.min(v.y);
+                y_max = y_max.max(v.y);
+            }
+        }
+        Scanner {
+            ellipses,
+            quad,
+            y_min,
+            y_max,
+        }
+    }
+
+    /// The exact x-interval of the outline at height `y`; lo > hi when the row misses.
+    #[inline]
+    pub fn interval(&self, y: f64) -> (f64, f64) {
+        let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+        for e in self.ellipses.iter().flatten() {
+            let (a, b) = e.at(y);
+            lo = lo.min(a);
+            hi = hi.max(b);
+        }
+        if let Some(edges) = &self.quad {
+            let (mut qlo, mut qhi) = (f64::NEG_INFINITY, f64::INFINITY);
+            for edge in edges {
+                match *edge {
+                    EdgeBound::Upper { ax, ay, slope } => qhi = qhi.min(ax + slope * (y - ay)),
+                    EdgeBound::Lower { ax, ay, slope } => qlo = qlo.max(ax + slope * (y - ay)),
+                    EdgeBound::Horizontal { ay, below } => {
+                        if (below && y < ay) || (!below && y > ay) {
+                            qhi = f64::NEG_INFINITY;
+                        }
+                    }
+                }
+            }
+            if qlo <= qhi {
+                lo = lo.min(qlo);
+                hi = hi.max(qhi);
+            }
+        }
+        (lo, hi)
+    }
+
+    /// The pixel rows the outline may cover, clipped to `roi`: `(first, end)`, half-open.
+    pub fn row_range(&self, roi: &Roi) -> (i32, i32) {
+        if !(self.y_min <= self.y_max) {
+            return (roi.y, roi.y);
+        }
+        let first = (self.y_min.ceil().max(f64::from(roi.y))) as i32;
+        let end = ((self.y_max.floor() + 1.0).min(f64::from(roi.y_end()))) as i32;
+        (first, end.max(first))
+    }
+
+    /// The pixel run of row `y` clipped to the columns of `roi`.
+    #[inline]
+    pub fn span(&self, y: i32, roi: &Roi) -> Span {
+        let (lo, hi) = self.interval(f64::from(y));
+        if !(lo <= hi) {
+            return Span::EMPTY;
+        }
+        let x0 = lo.ceil().max(f64::from(roi.x)) as i32;
+        let x1 = (hi.floor() + 1.0).min(f64::from(roi.x_end())) as i32;
+        if x0 < x1 {
+            Span { x0, x1 }
+        } else {
+            Span::EMPTY
+        }
+    }
+
+    /// The pixel run of row `y`, not clipped to any region.
+    #[inline]
+    pub fn span_unclipped(&self, y: i32) -> Span {
+        let (lo, hi) = self.interval(f64::from(y));
+        if !(lo <= hi) {
+            return Span::EMPTY;
+        }
+        // Clamping keeps absurd projections (points near the camera plane) inside i32.
+        let x0 = lo.ceil().clamp(-1e9, 1e9) as i32;
+        let x1 = (hi.floor() + 1.0).clamp(-1e9, 1e9) as i32;
+        if x0 < x1 {
+            Span { x0, x1 }
+        } else {
+            Span::EMPTY
+        }
+    }
+
+    /// Sets in `mask` the outline's one-pixel contour inside the mask's region: pixels of the
+    /// shape with a 4-neighbour outside the shape. Neighbours beyond the region are judged by
+    /// the shape itself, so the region's border is never mistaken for the shape's.
+    pub fn contour_into(&self, mask: &mut BitMask) {
+        let roi = mask.roi;
+        let (first, end) = self.row_range(&roi);
+        let clip = |a: i32, b: i32| (a.max(roi.x), b.min(roi.x_end()));
+        for y in first..end {
+            let c = self.span_unclipped(y);
+            if c.is_empty() {
+                continue;
+            }
+            let (up, down) = (self.span_unclipped(y - 1), self.span_unclipped(y + 1));
+            // Interior pixels have all four neighbours in the shape; each row is one run.
+            let in0 = (c.x0 + 1).max(up.x0).max(down.x0);
+            let in1 = (c.x1 - 1).min(up.x1).min(down.x1);
+            let row = (y - roi.y) as usize;
+            let bits = &mut mask.words[row * mask.stride..(row + 1) * mask.stride];
+            let mut put = |a: i32, b: i32| {
+                let (a, b) = clip(a, b);
+                if a < b {
+                    set_run(bits, (a - roi.x) as usize, (b - roi.x) as usize);
+                }
+            };
+            if up.is_empty() || down.is_empty() || in0 >= in1 {
+                put(c.x0, c.x1);
+            } else {
+                put(c.x0, in0);
+                put(in1, c.x1);
+            }
+        }
+    }
+
+    /// Rasterises into `out`, reusing its allocation.
+    pub fn spans_into(&self, roi: &Roi, out: &mut RowSpans) {
+        let (first, end) = self.row_range(roi);
+        out.y0 = first;
+        out.spans.clear();
+        out.spans.extend((first..end).map(|y| self.span(y, roi)));
+    }
+}
+
+/// Rasterises an outline inside `roi`.
+pub fn spans_of_outline(outline: &Outline, roi: &Roi) -> RowSpans {
+    let mut out = RowSpans::default();
+    Scanner::new(outline).spans_into(roi, &mut out);
+    out
+}
+
+/// A binary image over a region, 64 pixels per `u64` word, least significant bit leftmost.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct BitMask {
+    pub roi: Roi,
+    /// Words per row.
+    pub stride: usize,
+    pub words: Vec<u64>,
+}
+
+impl BitMask {
+    /// An empty mask over `roi`.
+    pub fn new(roi: Roi) -> Self {
+        let stride = (roi.width as usize).div_ceil(64);
+        BitMask {
+            roi,
+            stride,
+            words: vec![0; stride * roi.height as usize],
+        }
+    }
+
+    /// Clears every bit, keeping the allocation.
+    pub fn clear(&mut self) {
+        self.words.fill(0);
+    }
+
+    /// The words of one row (row index relative to the region).
+    pub fn row(&self, r: usize) -> &[u64] {
+        &self.words[r * self.stride..(r + 1) * self.stride]
+    }
+
+    /// Whether image pixel `(x, y)` is set (false outside the region).
+    pub fn get(&self, x: i32, y: i32) -> bool {
+        let (cx, cy) = (x - self.roi.x, y - self.roi.y);
+        if cx < 0 || cy < 0 || cx >= self.roi.width as i32 || cy >= self.roi.height as i32 {
+            return false;
+        }
+        let (cx, cy) = (cx as usize, cy as usize);
+        self.words[cy * self.stride + cx / 64] >> (cx % 64) & 1 == 1
+    }
+
+    /// Number of set pixels.
+    pub fn count(&self) -> u64 {
+        self.words.iter().map(|w| u64::from(w.count_ones())).sum()
+    }
+
+    /// Sets the pixels of the spans (given in image coordinates and already inside the region).
+    pub fn fill(&mut self, spans: &RowSpans) {
+        for (i, span) in spans.spans.iter().enumerate() {
+            if span.is_empty() {
+                continue;
+            }
+            let r = (spans.y0 + i as i32 - self.roi.y) as usize;
+            let row = &mut self.words[r * self.stride..(r + 1) * self.stride];
+            set_run(row, (span.x0 - self.roi.x) as usize, (span.x1 - self.roi.x) as usize);
+        }
+    }
+
+    /// `self &= !other` (same region).
+    pub fn subtract(&mut self, other: &BitMask) {
+        for (a, b) in self.words.iter_mut().zip(&other.words) {
+            *a &= !b;
+        }
+    }
+
+    /// `self |= other` (same region).
+    pub fn union(&mut self, other: &BitMask) {
+        for (a, b) in self.words.iter_mut().zip(&other.words) {
+            *a |= b;
+        }
+    }
+}
+
+/// Sets bits `x0..x1` of a bit row.
+#[inline]
+pub fn set_run(row: &mut [u64], x0: usize, x1: usize) {
+    if x0 >= x1 {
+        return;
+    }
+    let (w0, w1) = (x0 / 64, (x1 - 1) / 64);
+    let head = u64::MAX << (x0 % 64);
+    let tail = u64::MAX >> (63 - (x1 - 1) % 64);
+    if w0 == w1 {
+        row[w0] |= head & tail;
+    } else {
+        row[w0] |= head;
+        for w in &mut row[w0 + 1..w1] {
+            *w = u64::MAX;
+        }
+        row[w1] |= tail;
+    }
+}

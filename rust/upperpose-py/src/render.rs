@@ -1,0 +1,99 @@
+//! Rendering the body model into masks, for overlays, debugging and tests.
+
+use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray1};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use upperpose_core::{skeleton_from_pose, BitMask, BodyRaster, Part, Roi, PART_NAMES};
+
+use crate::convert::{pose_from_array, vector3_from_array};
+use crate::errors::IntoPy;
+use crate::model::{PyBodyModel, PyCamera};
+
+/// Unpacks a bit mask into one byte (0 or 1) per pixel, row-major.
+fn bytes_from_mask(mask: &BitMask) -> Vec<u8> {
+    let (w, h) = (mask.roi.width as usize, mask.roi.height as usize);
+    let mut out = vec![0u8; w * h];
+    for (r, row_out) in out.chunks_exact_mut(w).enumerate().take(h) {
+        let row = mask.row(r);
+        for (c, px) in row_out.iter_mut().enumerate() {
+            *px = (row[c / 64] >> (c % 64) & 1) as u8;
+        }
+    }
+    out
+}
+
+/// Rasterises the body model for a pose into uint8 masks inside a region of the image.
+///
+/// A pixel is set when its centre lies inside the exact projected outline of a part
+/// (convex hull of each cone's two end ellipses; ellipses for the head).
+///
+/// Args:
+///     pose: `(13,)` float64 joint angles in radians.
+///     root: `(3,)` float64 root position in metres, camera frame.
+///     body: body dimensions.
+///     camera: the camera.
+///     width: image width in pixels.
+///     height: image height in pixels.
+///     roi: `(x, y, w, h)` region to draw, inside the image; the whole image when None.
+///
+/// Returns:
+///     dict of `(h, w)` uint8 arrays over the region: `silhouette` (0/1, all parts),
+///     `labels` (0 background, k + 1 where part k of `PART_NAMES` is the nearest visible),
+///     `contour` (0/1, the visible one-pixel outline of every part), and for each part name
+///     its whole silhouette (`name`) and its visible contour (`name + "_contour"`).
+///
+/// Raises:
+///     ValueError: wrong shapes, non-finite values, or a region outside the image.
+#[pyfunction(name = "render_masks")]
+#[pyo3(signature = (pose, root, body, camera, width, height, roi = None))]
+#[allow(clippy::too_many_arguments)]
+pub fn render_masks_py<'py>(
+    py: Python<'py>,
+    pose: PyReadonlyArray1<'py, f64>,
+    root: PyReadonlyArray1<'py, f64>,
+    body: &PyBodyModel,
+    camera: &PyCamera,
+    width: u32,
+    height: u32,
+    roi: Option<(i64, i64, i64, i64)>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let pose = pose_from_array(&pose)?;
+    let root = vector3_from_array("root", &root)?;
+    let (x, y, w, h) = roi.unwrap_or((0, 0, i64::from(width), i64::from(height)));
+    let roi = Roi::inside(x, y, w, h, width, height).py()?;
+    let (body, camera) = (body.inner, camera.inner);
+    let rendered = py.detach(move || {
+        let skel = skeleton_from_pose(&pose, &root, &body);
+        let raster = BodyRaster::new(&skel, &body, &camera, roi);
+        let visible = raster.visible();
+        let contours = raster.contours();
+        let mut labels = vec![0u8; roi.width as usize * roi.height as usize];
+        let mut all_contours = BitMask::new(roi);
+        for (k, (vis, con)) in visible.iter().zip(&contours).enumerate() {
+            for (dst, &bit) in labels.iter_mut().zip(&bytes_from_mask(vis)) {
+                if bit == 1 {
+                    *dst = k as u8 + 1;
+                }
+            }
+            all_contours.union(con);
+        }
+        let parts: Vec<(Vec<u8>, Vec<u8>)> = Part::ALL
+            .iter()
+            .zip(&contours)
+            .map(|(&p, c)| (bytes_from_mask(&raster.silhouette(p)), bytes_from_mask(c)))
+            .collect();
+        (bytes_from_mask(&raster.union()), labels, bytes_from_mask(&all_contours), parts)
+    });
+    let (union, labels, contour, parts) = rendered;
+    let shape = [roi.height as usize, roi.width as usize];
+    let d = PyDict::new(py);
+    let put = |key: &str, data: Vec<u8>| -> PyResult<()> { d.set_item(key, PyArray1::from_vec(py, data).reshape(shape)?) };
+    put("silhouette", union)?;
+    put("labels", labels)?;
+    put("contour", contour)?;
+    for (name, (sil, con)) in PART_NAMES.iter().zip(parts) {
+        put(name, sil)?;
+        put(&format!("{name}_contour"), con)?;
+    }
+    Ok(d)
+}
