@@ -6,7 +6,7 @@ import cv2
 import numpy as np
 import numpy.typing as npt
 
-from upperpose.model import BodyModel, Camera, PoseLike, project, render_masks, forward_kinematics
+from upperpose.model import BodyModel, Camera, PoseLike, forward_kinematics, project, render_masks
 
 # BGR colours per part, in PART_NAMES order: torso, neck, head, right upper/lower, left upper/lower.
 PART_COLOURS = [
@@ -30,8 +30,10 @@ def draw_model(
     body: BodyModel | None = None,
     alpha: float = 0.45,
 ) -> npt.NDArray[np.uint8]:
-    """Returns a copy of a BGR image with the posed model's parts tinted, their visible
-    contours outlined and the joints drawn as a stick figure."""
+    """Draws the posed model over a copy of a BGR image.
+
+    The parts are tinted, their visible contours outlined and the joints drawn as a stick figure.
+    """
     if image.ndim != 3 or image.shape[2] != 3 or image.dtype != np.uint8:
         raise ValueError(f"image must be (H, W, 3) uint8, got {image.shape} {image.dtype}")
     height, width = image.shape[:2]
@@ -51,4 +53,4 @@ def draw_model(
         cv2.line(out, pts[a], pts[b], (255, 255, 255), 1, cv2.LINE_AA)
     for p in pts:
         cv2.circle(out, p, 4, (0, 0, 255), -1, cv2.LINE_AA)
-    return out
+    return np.asarray(out, dtype=np.uint8)

@@ -87,7 +87,7 @@ class Pose:
         return {n: float(v) for n, v in zip(ANGLE_NAMES, self._angles)}
 
     def __array__(self, dtype: object = None, copy: object = None) -> FloatArray:
-        return self._angles if dtype is None else self._angles.astype(dtype)  # type: ignore[call-overload, no-any-return]
+        return self._angles if dtype is None else self._angles.astype(dtype)  # type: ignore[call-overload]
 
     def __eq__(self, other: object) -> bool:
         return isinstance(other, Pose) and bool(np.array_equal(self._angles, other._angles))
@@ -100,7 +100,7 @@ class Pose:
         return f"Pose({nonzero})"
 
 
-PoseLike = Union[Pose, npt.ArrayLike, Mapping[str, float]]
+PoseLike = Union[Pose, npt.ArrayLike, Mapping[str, float]]  # noqa: UP007 (a runtime alias on 3.10)
 
 
 def pose_array(pose: PoseLike) -> FloatArray:

@@ -73,7 +73,7 @@ def run(args: argparse.Namespace) -> int:
         tiles = []
         for label, pose in EXAMPLE_POSES.items():
             tile = render_pose(pose, args.width, args.height, args.depth, args.focal)
-            cv2.putText(tile, label, (10, 28), cv2.FONT_HERSHEY_SIMPLEX, 0.7, (255, 255, 255), 2, cv2.LINE_AA)
+            cv2.putText(tile, label, (8, 22), cv2.FONT_HERSHEY_SIMPLEX, 0.5, (255, 255, 255), 1, cv2.LINE_AA)
             tiles.append(tile)
         rows = [np.hstack(tiles[i : i + 4]) for i in range(0, len(tiles), 4)]
         image = np.vstack(rows)

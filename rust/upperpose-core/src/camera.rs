@@ -44,7 +44,12 @@ impl Camera {
     /// A weak-perspective camera: orthographic at the scale a pinhole has at `reference_depth`.
     pub fn weak_perspective(focal: f64, cx: f64, cy: f64, reference_depth: f64) -> Result<Self> {
         positive("reference_depth", reference_depth)?;
-        Self::checked(Projection::WeakPerspective { reference_depth }, focal, cx, cy)
+        Self::checked(
+            Projection::WeakPerspective { reference_depth },
+            focal,
+            cx,
+            cy,
+        )
     }
 
     /// The default camera of SPEC 3 for an image: perspective, focal = image width,
@@ -97,7 +102,12 @@ impl Camera {
     /// Projects a point; `None` when a perspective camera cannot see it (depth <= 0).
     pub fn project(&self, p: &Vector3<f64>) -> Option<Vector2<f64>> {
         match self.affine_scale() {
-            None => (p.z > 0.0).then(|| Vector2::new(self.focal * p.x / p.z + self.cx, self.focal * p.y / p.z + self.cy)),
+            None => (p.z > 0.0).then(|| {
+                Vector2::new(
+                    self.focal * p.x / p.z + self.cx,
+                    self.focal * p.y / p.z + self.cy,
+                )
+            }),
             Some(s) => Some(Vector2::new(s * p.x + self.cx, s * p.y + self.cy)),
         }
     }
@@ -117,7 +127,10 @@ mod tests {
         let cam = Camera::perspective(600.0, 320.0, 240.0).unwrap();
         let p = Vector3::new(0.3, -0.2, 2.0);
         let uv = cam.project(&p).unwrap();
-        assert_eq!(uv, Vector2::new(600.0 * 0.3 / 2.0 + 320.0, 600.0 * -0.2 / 2.0 + 240.0));
+        assert_eq!(
+            uv,
+            Vector2::new(600.0 * 0.3 / 2.0 + 320.0, 600.0 * -0.2 / 2.0 + 240.0)
+        );
         assert!(cam.project(&Vector3::new(0.0, 0.0, -1.0)).is_none());
         let h = cam.matrix() * p.push(1.0);
         assert!((h.x / h.z - uv.x).abs() < 1e-12 && (h.y / h.z - uv.y).abs() < 1e-12);
@@ -137,7 +150,9 @@ mod tests {
     #[test]
     fn bad_intrinsics_are_named() {
         assert_eq!(
-            Camera::perspective(f64::NAN, 0.0, 0.0).unwrap_err().to_string(),
+            Camera::perspective(f64::NAN, 0.0, 0.0)
+                .unwrap_err()
+                .to_string(),
             "focal must be finite, got NaN"
         );
         assert!(Camera::perspective(-1.0, 0.0, 0.0).is_err());

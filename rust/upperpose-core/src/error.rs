@@ -22,7 +22,9 @@ pub enum CoreError {
         got: String,
     },
     /// A region of interest is empty or does not overlap the image.
-    #[error("region of interest {roi:?} must be non-empty and lie inside the {width}x{height} image")]
+    #[error(
+        "region of interest {roi:?} must be non-empty and lie inside the {width}x{height} image"
+    )]
     InvalidRoi {
         roi: (i64, i64, i64, i64),
         width: u32,

@@ -54,8 +54,20 @@ impl Side {
     /// The arm's five angles: y_up, x_up, z_up, x_down, y_down.
     fn dofs(self) -> [Dof; 5] {
         match self {
-            Side::Right => [Dof::RightYUp, Dof::RightXUp, Dof::RightZUp, Dof::RightXDown, Dof::RightYDown],
-            Side::Left => [Dof::LeftYUp, Dof::LeftXUp, Dof::LeftZUp, Dof::LeftXDown, Dof::LeftYDown],
+            Side::Right => [
+                Dof::RightYUp,
+                Dof::RightXUp,
+                Dof::RightZUp,
+                Dof::RightXDown,
+                Dof::RightYDown,
+            ],
+            Side::Left => [
+                Dof::LeftYUp,
+                Dof::LeftXUp,
+                Dof::LeftZUp,
+                Dof::LeftXDown,
+                Dof::LeftYDown,
+            ],
         }
     }
 }
@@ -70,7 +82,11 @@ pub fn euler_zyx(z: f64, y: f64, x: f64) -> Matrix3<f64> {
 
 /// Orientation of the torso in the camera frame.
 pub fn torso_rotation(pose: &Pose) -> Matrix3<f64> {
-    euler_zyx(pose.get(Dof::TorsoZ), pose.get(Dof::TorsoY), pose.get(Dof::TorsoX))
+    euler_zyx(
+        pose.get(Dof::TorsoZ),
+        pose.get(Dof::TorsoY),
+        pose.get(Dof::TorsoX),
+    )
 }
 
 /// Orientation of the upper arm relative to the torso. At zero the arm hangs along +Y.
@@ -142,7 +158,11 @@ pub fn skeleton_from_pose(pose: &Pose, root: &Vector3<f64>, body: &BodyModel) ->
     let torso = torso_rotation(pose);
     let at = |local: Vector3<f64>| root + torso * local;
     let arm = |side: Side| {
-        let shoulder_local = Vector3::new(-side.mirror() * body.shoulder_width / 2.0, -body.shoulder_height, 0.0);
+        let shoulder_local = Vector3::new(
+            -side.mirror() * body.shoulder_width / 2.0,
+            -body.shoulder_height,
+            0.0,
+        );
         let upper = torso * shoulder_rotation(pose, side);
         let lower = upper * elbow_rotation(pose, side);
         let shoulder = at(shoulder_local);
@@ -159,7 +179,11 @@ pub fn skeleton_from_pose(pose: &Pose, root: &Vector3<f64>, body: &BodyModel) ->
     Skeleton {
         root: *root,
         torso,
-        head: at(Vector3::new(0.0, -body.shoulder_height - body.head_offset, 0.0)),
+        head: at(Vector3::new(
+            0.0,
+            -body.shoulder_height - body.head_offset,
+            0.0,
+        )),
         neck_base: at(Vector3::new(0.0, -body.shoulder_height, 0.0)),
         right: arm(Side::Right),
         left: arm(Side::Left),

@@ -10,7 +10,7 @@
 
 use crate::camera::{Camera, NEAR_PLANE};
 use crate::solid::{Ellipsoid, Frustum, Solid};
-use nalgebra::{Matrix4, Vector2, Vector3};
+use nalgebra::{Vector2, Vector3};
 
 /// A filled image ellipse `{p : (p - c)^T S^-1 (p - c) <= 1}` with `S = [[sxx, sxy], [sxy, syy]]`
 /// (pixels). `S` may be singular: then the ellipse is a segment and covers no area.
@@ -59,14 +59,14 @@ pub fn ellipse_of_ellipsoid(e: &Ellipsoid, camera: &Camera) -> Option<Ellipse> {
             return None;
         }
     }
-    // Q* = T diag(1, 1, 1, -1) T^T with T mapping the unit sphere onto the ellipsoid.
-    let mut t = Matrix4::<f64>::zeros();
-    t.fixed_view_mut::<3, 3>(0, 0).copy_from(&e.axes);
-    t.fixed_view_mut::<3, 1>(0, 3).copy_from(&e.centre);
-    t[(3, 3)] = 1.0;
-    let d = Matrix4::from_diagonal(&nalgebra::Vector4::new(1.0, 1.0, 1.0, -1.0));
+    // Q* = T diag(1, 1, 1, -1) T^T with T = [[axes, centre], [0, 1]] mapping the unit sphere
+    // onto the ellipsoid; with P = [A | b] the dual conic P Q* P^T is (A axes)(A axes)^T - m m^T
+    // where m = A centre + b.
     let p = camera.matrix();
-    let dual = p * (t * d * t.transpose()) * p.transpose();
+    let a = p.fixed_view::<3, 3>(0, 0);
+    let m_axes = a * e.axes;
+    let m = a * e.centre + p.column(3);
+    let dual = m_axes * m_axes.transpose() - m * m.transpose();
     // Normalise to dual[2][2] = -1; then dual = [[S - c c^T, -c], [-c^T, -1]].
     let w = -dual[(2, 2)];
     if w <= 0.0 || !w.is_finite() {
@@ -96,7 +96,8 @@ pub fn silhouette_generators(f: &Frustum, camera: &Camera) -> Option<[Vector3<f6
     // Affine maps keep tangency, so generators found there map back to the true ones.
     let [a0, b0] = f.radii0;
     let slope = (f.radii1[0] / a0 - 1.0) / length; // d(radius)/d(axis) in the scaled frame
-    let to_scaled = |v: &Vector3<f64>| Vector3::new(v.dot(&f.e1) / a0, v.dot(&f.e2) / b0, v.dot(&a));
+    let to_scaled =
+        |v: &Vector3<f64>| Vector3::new(v.dot(&f.e1) / a0, v.dot(&f.e2) / b0, v.dot(&a));
     // With the cross-section direction u, the lateral normal is u - slope * a; the generator
     // is on the silhouette when that normal is perpendicular to the viewing ray.
     let (d, rhs) = if camera.is_perspective() {
@@ -116,7 +117,9 @@ pub fn silhouette_generators(f: &Frustum, camera: &Camera) -> Option<[Vector3<f6
     }
     let s = (1.0 - c * c).sqrt();
     let (wx, wy) = (d.x / rho, d.y / rho);
-    let lift = |ux: f64, uy: f64, centre: &Vector3<f64>, r: &[f64; 2]| centre + f.e1 * (r[0] * ux) + f.e2 * (r[1] * uy);
+    let lift = |ux: f64, uy: f64, centre: &Vector3<f64>, r: &[f64; 2]| {
+        centre + f.e1 * (r[0] * ux) + f.e2 * (r[1] * uy)
+    };
     let (upx, upy) = (c * wx - s * wy, c * wy + s * wx);
     let (umx, umy) = (c * wx + s * wy, c * wy - s * wx);
     Some([

@@ -73,14 +73,11 @@ pub struct Pose(pub [f64; DOF_COUNT]);
 impl Pose {
     /// Builds a pose from a slice of exactly 13 finite angles.
     pub fn from_slice(angles: &[f64]) -> Result<Self> {
-        let values: [f64; DOF_COUNT] =
-            angles
-                .try_into()
-                .map_err(|_| CoreError::InvalidShape {
-                    name: "pose",
-                    expected: format!("({DOF_COUNT},)"),
-                    got: format!("({},)", angles.len()),
-                })?;
+        let values: [f64; DOF_COUNT] = angles.try_into().map_err(|_| CoreError::InvalidShape {
+            name: "pose",
+            expected: format!("({DOF_COUNT},)"),
+            got: format!("({},)", angles.len()),
+        })?;
         for (dof, &v) in Dof::ALL.iter().zip(&values) {
             if !v.is_finite() {
                 return Err(CoreError::NotFinite {
@@ -174,7 +171,9 @@ impl DofRange {
 
     /// Whether `value` lies in one of the intervals.
     pub fn contains(&self, value: f64) -> bool {
-        self.intervals.iter().any(|i| i.lo <= value && value <= i.hi)
+        self.intervals
+            .iter()
+            .any(|i| i.lo <= value && value <= i.hi)
     }
 
     /// The admissible value nearest to `value` (ties go to the lower interval).
@@ -243,7 +242,11 @@ impl JointLimits {
         )
     }
 
-    fn from_table(torso: &[[(f64, f64); 1]; 3], arm: &[(f64, f64); 5], x_up_extra: Option<(f64, f64)>) -> Self {
+    fn from_table(
+        torso: &[[(f64, f64); 1]; 3],
+        arm: &[(f64, f64); 5],
+        x_up_extra: Option<(f64, f64)>,
+    ) -> Self {
         let mut ranges = Vec::with_capacity(DOF_COUNT);
         let single = |(lo, hi): (f64, f64)| DofRange {
             intervals: vec![Interval { lo, hi }],
@@ -272,7 +275,10 @@ impl JointLimits {
 
     /// Whether every angle of `pose` is admissible.
     pub fn contains(&self, pose: &Pose) -> bool {
-        self.ranges.iter().zip(pose.0.iter()).all(|(r, &v)| r.contains(v))
+        self.ranges
+            .iter()
+            .zip(pose.0.iter())
+            .all(|(r, &v)| r.contains(v))
     }
 
     /// The pose with every angle moved to its nearest admissible value.
@@ -299,7 +305,10 @@ mod tests {
 
     #[test]
     fn pose_rejects_wrong_length_and_nan() {
-        assert!(matches!(Pose::from_slice(&[0.0; 12]), Err(CoreError::InvalidShape { .. })));
+        assert!(matches!(
+            Pose::from_slice(&[0.0; 12]),
+            Err(CoreError::InvalidShape { .. })
+        ));
         let mut v = [0.0; 13];
         v[4] = f64::NAN;
         let err = Pose::from_slice(&v).unwrap_err();
@@ -322,7 +331,9 @@ mod tests {
     #[test]
     fn clamping_is_idempotent_and_admissible() {
         let limits = JointLimits::anatomical();
-        let wild = Pose([9.0, -9.0, 3.0, -4.0, 5.0, -2.0, 7.0, 0.1, 4.0, -3.0, 0.0, -1.0, 8.0]);
+        let wild = Pose([
+            9.0, -9.0, 3.0, -4.0, 5.0, -2.0, 7.0, 0.1, 4.0, -3.0, 0.0, -1.0, 8.0,
+        ]);
         let once = limits.clamp(&wild);
         assert!(limits.contains(&once));
         assert_eq!(limits.clamp(&once), once);

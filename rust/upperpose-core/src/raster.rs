@@ -31,7 +31,12 @@ impl Roi {
 
     /// A region that must be non-empty and lie inside a `width x height` image.
     pub fn inside(x: i64, y: i64, w: i64, h: i64, width: u32, height: u32) -> Result<Self> {
-        let ok = w > 0 && h > 0 && x >= 0 && y >= 0 && x + w <= i64::from(width) && y + h <= i64::from(height);
+        let ok = w > 0
+            && h > 0
+            && x >= 0
+            && y >= 0
+            && x + w <= i64::from(width)
+            && y + h <= i64::from(height);
         if !ok {
             return Err(CoreError::InvalidRoi {
                 roi: (x, y, w, h),
@@ -80,10 +85,19 @@ impl Span {
 }
 
 /// One span per row for rows `y0..y0 + spans.len()`, in image coordinates.
-#[derive(Debug, Clone, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Default)]
 pub struct RowSpans {
     pub y0: i32,
     pub spans: Vec<Span>,
+    /// Scratch: the exact x-interval of each row, kept to reuse its allocation.
+    lo: Vec<f64>,
+    hi: Vec<f64>,
+}
+
+impl PartialEq for RowSpans {
+    fn eq(&self, other: &Self) -> bool {
+        self.y0 == other.y0 && self.spans == other.spans
+    }
 }
 
 impl RowSpans {
@@ -101,6 +115,38 @@ impl RowSpans {
     }
 }
 
+// Plain comparisons compile to single min/max instructions; f64::min/max also order NaN,
+// which costs several more per call on the hottest loop of the tracker. No NaN reaches here.
+#[inline]
+fn fmin(a: f64, b: f64) -> f64 {
+    if a < b {
+        a
+    } else {
+        b
+    }
+}
+
+#[inline]
+fn fmax(a: f64, b: f64) -> f64 {
+    if a > b {
+        a
+    } else {
+        b
+    }
+}
+
+/// The part of `rows` inside `first..end`, as indices into a buffer starting at `first`.
+#[inline]
+fn overlap(rows: (i32, i32), first: i32, end: i32) -> std::ops::Range<usize> {
+    let a = rows.0.max(first);
+    let b = rows.1.min(end);
+    if a >= b {
+        0..0
+    } else {
+        (a - first) as usize..(b - first) as usize
+    }
+}
+
 /// Row-span evaluation of one ellipse, with its per-row constants precomputed.
 #[derive(Debug, Clone, Copy)]
 struct EllipseRows {
@@ -109,6 +155,8 @@ struct EllipseRows {
     syy: f64,
     shear: f64,
     width2: f64,
+    /// Pixel rows whose centre line meets the ellipse: `rows.0..rows.1`.
+    rows: (i32, i32),
 }
 
 impl EllipseRows {
@@ -118,140 +166,195 @@ impl EllipseRows {
         if !(det > 1e-18 && e.syy > 0.0) {
             return None;
         }
+        let h = e.syy.sqrt();
         Some(EllipseRows {
             cx: e.cx,
             cy: e.cy,
             syy: e.syy,
             shear: e.sxy / e.syy,
             width2: det / (e.syy * e.syy),
+            rows: row_range(e.cy - h, e.cy + h),
         })
     }
 
-    fn rows(&self) -> (f64, f64) {
-        let h = self.syy.sqrt();
-        (self.cy - h, self.cy + h)
-    }
-
-    /// The x-interval at height `y`, as (lo, hi); lo > hi when the row misses.
+    /// The x-interval at height `y`, for a row inside `rows`.
     #[inline]
     fn at(&self, y: f64) -> (f64, f64) {
         let dy = y - self.cy;
-        let t = self.syy - dy * dy;
-        if t < 0.0 {
-            return (f64::INFINITY, f64::NEG_INFINITY);
-        }
+        let t = fmax(self.syy - dy * dy, 0.0);
         let mid = self.cx + self.shear * dy;
         let half = (self.width2 * t).sqrt();
         (mid - half, mid + half)
     }
+
+    /// Widens the intervals of consecutive rows starting at height `y0` to hold the ellipse.
+    #[inline]
+    fn widen(&self, y0: i32, lo: &mut [f64], hi: &mut [f64]) {
+        for (i, (l, h)) in lo.iter_mut().zip(hi.iter_mut()).enumerate() {
+            let (a, b) = self.at(f64::from(y0) + i as f64);
+            *l = fmin(*l, a);
+            *h = fmax(*h, b);
+        }
+    }
 }
 
-/// One edge of a convex polygon as a bound on x per row: `x = ax + slope (y - ay)`.
+/// `ceil(v)` as an integer, saturating. Baseline x86-64 has no rounding instruction, so
+/// `f64::ceil` is a library call; truncation and a compare are several times cheaper.
+#[inline]
+fn ceil_i32(v: f64) -> i32 {
+    let t = fmax(fmin(v, 1e9), -1e9) as i32;
+    t + i32::from(f64::from(t) < v)
+}
+
+/// `floor(v)` as an integer, saturating (see [`ceil_i32`]).
+#[inline]
+fn floor_i32(v: f64) -> i32 {
+    let t = fmax(fmin(v, 1e9), -1e9) as i32;
+    t - i32::from(f64::from(t) > v)
+}
+
+/// The pixels whose centres lie in `[lo, hi]`, clipped to the columns of `roi`.
+#[inline]
+fn clipped_span(lo: f64, hi: f64, roi: &Roi) -> Span {
+    let x0 = ceil_i32(lo).max(roi.x);
+    let x1 = (floor_i32(hi) + 1).min(roi.x_end());
+    // An empty interval (lo > hi, including the +inf/-inf of a missed row) gives x0 >= x1.
+    if x0 < x1 {
+        Span { x0, x1 }
+    } else {
+        Span::EMPTY
+    }
+}
+
+/// Integer rows `first..end` whose centres lie in `[lo, hi]`.
+fn row_range(lo: f64, hi: f64) -> (i32, i32) {
+    if !(lo <= hi) {
+        return (0, 0);
+    }
+    let first = ceil_i32(lo);
+    (first, (floor_i32(hi) + 1).max(first))
+}
+
+/// A convex polygon as bounds on x per row: `x >= a + b y` for each lower line and
+/// `x <= a + b y` for each upper line, valid for the rows `rows.0..rows.1`. Unused slots hold
+/// lines at -inf / +inf so that every row evaluates all four without branching.
 #[derive(Debug, Clone, Copy)]
-enum EdgeBound {
-    Upper { ax: f64, ay: f64, slope: f64 },
-    Lower { ax: f64, ay: f64, slope: f64 },
-    /// A horizontal edge: rows on the wrong side of `ay` miss the polygon.
-    Horizontal { ay: f64, below: bool },
+struct QuadRows {
+    lower: [(f64, f64); 4],
+    upper: [(f64, f64); 4],
+    rows: (i32, i32),
 }
 
-fn edge_bounds(quad: &[Vector2<f64>; 4]) -> Option<[EdgeBound; 4]> {
-    let area2: f64 = (0..4)
-        .map(|i| {
+impl QuadRows {
+    fn new(quad: &[Vector2<f64>; 4]) -> Option<Self> {
+        let area2: f64 = (0..4)
+            .map(|i| {
+                let (a, b) = (quad[i], quad[(i + 1) % 4]);
+                a.x * b.y - a.y * b.x
+            })
+            .sum();
+        if !(area2.abs() >= 1e-9) {
+            return None; // A quadrilateral of no area adds no pixel to the ellipses.
+        }
+        let s = area2.signum();
+        let mut lower = [(f64::NEG_INFINITY, 0.0); 4];
+        let mut upper = [(f64::INFINITY, 0.0); 4];
+        for i in 0..4 {
             let (a, b) = (quad[i], quad[(i + 1) % 4]);
-            a.x * b.y - a.y * b.x
+            let (ex, ey) = (b.x - a.x, b.y - a.y);
+            // Inside is where s * cross(e, p - a) >= 0, i.e. s*ey*(x - ax) <= s*ex*(y - ay).
+            // A horizontal edge lies at the polygon's top or bottom: the row range covers it.
+            if ey != 0.0 {
+                let slope = ex / ey;
+                let line = (a.x - slope * a.y, slope);
+                if s * ey > 0.0 {
+                    upper[i] = line;
+                } else {
+                    lower[i] = line;
+                }
+            }
+        }
+        let y_lo = quad.iter().map(|v| v.y).fold(f64::INFINITY, f64::min);
+        let y_hi = quad.iter().map(|v| v.y).fold(f64::NEG_INFINITY, f64::max);
+        Some(QuadRows {
+            lower,
+            upper,
+            rows: row_range(y_lo, y_hi),
         })
-        .sum();
-    if area2.abs() < 1e-9 {
-        return None; // A quadrilateral of no area adds no pixel to the ellipses.
     }
-    let s = area2.signum();
-    let mut out = [EdgeBound::Horizontal { ay: 0.0, below: true }; 4];
-    for (i, slot) in out.iter_mut().enumerate() {
-        let (a, b) = (quad[i], quad[(i + 1) % 4]);
-        let (ex, ey) = (b.x - a.x, b.y - a.y);
-        // Inside is where s * cross(e, p - a) >= 0, i.e. s*ex*(y-ay) >= s*ey*(x-ax).
-        *slot = if ey == 0.0 {
-            EdgeBound::Horizontal {
-                ay: a.y,
-                below: s * ex > 0.0,
-            }
-        } else if s * ey > 0.0 {
-            EdgeBound::Upper {
-                ax: a.x,
-                ay: a.y,
-                slope: ex / ey,
-            }
-        } else {
-            EdgeBound::Lower {
-                ax: a.x,
-                ay: a.y,
-                slope: ex / ey,
-            }
-        };
+
+    #[inline]
+    fn at(&self, y: f64) -> (f64, f64) {
+        let mut lo = f64::NEG_INFINITY;
+        let mut hi = f64::INFINITY;
+        for k in 0..4 {
+            lo = fmax(lo, self.lower[k].0 + self.lower[k].1 * y);
+            hi = fmin(hi, self.upper[k].0 + self.upper[k].1 * y);
+        }
+        (lo, hi)
     }
-    Some(out)
+
+    /// Sets the intervals of consecutive rows starting at height `y0` to the quadrilateral's.
+    #[inline]
+    fn set(&self, y0: i32, lo: &mut [f64], hi: &mut [f64]) {
+        for (i, (l, h)) in lo.iter_mut().zip(hi.iter_mut()).enumerate() {
+            (*l, *h) = self.at(f64::from(y0) + i as f64);
+        }
+    }
 }
 
 /// An outline prepared for scanning rows.
 #[derive(Debug, Clone, Copy)]
 pub struct Scanner {
     ellipses: [Option<EllipseRows>; 2],
-    quad: Option<[EdgeBound; 4]>,
-    y_min: f64,
-    y_max: f64,
+    quad: Option<QuadRows>,
+    /// All rows any piece covers.
+    rows: (i32, i32),
 }
 
 impl Scanner {
     /// Prepares an outline for rasterisation.
     pub fn new(outline: &Outline) -> Self {
-        let ellipses = outline.ellipses.map(|e| e.as_ref().and_then(EllipseRows::new));
-        let quad = outline.quad.as_ref().and_then(edge_bounds);
-        let (mut y_min, mut y_max) = (f64::INFINITY, f64::NEG_INFINITY);
-        for e in ellipses.iter().flatten() {
-            let (lo, hi) = e.rows();
-            y_min = y_min.min(lo);
-            y_max = y_max.max(hi);
-        }
-        if let (Some(_), Some(q)) = (quad, outline.quad) {
-            for v in q {
-                y_min = y_min.min(v.y);
-                y_max = y_max.max(v.y);
+        let ellipses = outline
+            .ellipses
+            .map(|e| e.as_ref().and_then(EllipseRows::new));
+        let quad = outline.quad.as_ref().and_then(QuadRows::new);
+        let mut rows = (i32::MAX, i32::MIN);
+        for r in ellipses
+            .iter()
+            .flatten()
+            .map(|e| e.rows)
+            .chain(quad.map(|q| q.rows))
+        {
+            if r.0 < r.1 {
+                rows = (rows.0.min(r.0), rows.1.max(r.1));
             }
+        }
+        if rows.0 >= rows.1 {
+            rows = (0, 0);
         }
         Scanner {
             ellipses,
             quad,
-            y_min,
-            y_max,
+            rows,
         }
     }
 
-    /// The exact x-interval of the outline at height `y`; lo > hi when the row misses.
+    /// The exact x-interval of the outline at pixel row `y`; lo > hi when the row misses.
     #[inline]
-    pub fn interval(&self, y: f64) -> (f64, f64) {
+    pub fn interval(&self, y: i32) -> (f64, f64) {
+        let yf = f64::from(y);
         let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
-        for e in self.ellipses.iter().flatten() {
-            let (a, b) = e.at(y);
-            lo = lo.min(a);
-            hi = hi.max(b);
-        }
-        if let Some(edges) = &self.quad {
-            let (mut qlo, mut qhi) = (f64::NEG_INFINITY, f64::INFINITY);
-            for edge in edges {
-                match *edge {
-                    EdgeBound::Upper { ax, ay, slope } => qhi = qhi.min(ax + slope * (y - ay)),
-                    EdgeBound::Lower { ax, ay, slope } => qlo = qlo.max(ax + slope * (y - ay)),
-                    EdgeBound::Horizontal { ay, below } => {
-                        if (below && y < ay) || (!below && y > ay) {
-                            qhi = f64::NEG_INFINITY;
-                        }
-                    }
-                }
+        if let Some(q) = &self.quad {
+            if y >= q.rows.0 && y < q.rows.1 {
+                (lo, hi) = q.at(yf);
             }
-            if qlo <= qhi {
-                lo = lo.min(qlo);
-                hi = hi.max(qhi);
+        }
+        for e in self.ellipses.iter().flatten() {
+            if y >= e.rows.0 && y < e.rows.1 {
+                let (a, b) = e.at(yf);
+                lo = fmin(lo, a);
+                hi = fmax(hi, b);
             }
         }
         (lo, hi)
@@ -259,40 +362,27 @@ impl Scanner {
 
     /// The pixel rows the outline may cover, clipped to `roi`: `(first, end)`, half-open.
     pub fn row_range(&self, roi: &Roi) -> (i32, i32) {
-        if !(self.y_min <= self.y_max) {
-            return (roi.y, roi.y);
-        }
-        let first = (self.y_min.ceil().max(f64::from(roi.y))) as i32;
-        let end = ((self.y_max.floor() + 1.0).min(f64::from(roi.y_end()))) as i32;
+        let first = self.rows.0.max(roi.y);
+        let end = self.rows.1.min(roi.y_end());
         (first, end.max(first))
     }
 
     /// The pixel run of row `y` clipped to the columns of `roi`.
     #[inline]
     pub fn span(&self, y: i32, roi: &Roi) -> Span {
-        let (lo, hi) = self.interval(f64::from(y));
-        if !(lo <= hi) {
-            return Span::EMPTY;
-        }
-        let x0 = lo.ceil().max(f64::from(roi.x)) as i32;
-        let x1 = (hi.floor() + 1.0).min(f64::from(roi.x_end())) as i32;
-        if x0 < x1 {
-            Span { x0, x1 }
-        } else {
-            Span::EMPTY
-        }
+        let (lo, hi) = self.interval(y);
+        clipped_span(lo, hi, roi)
     }
 
     /// The pixel run of row `y`, not clipped to any region.
     #[inline]
     pub fn span_unclipped(&self, y: i32) -> Span {
-        let (lo, hi) = self.interval(f64::from(y));
+        let (lo, hi) = self.interval(y);
         if !(lo <= hi) {
             return Span::EMPTY;
         }
-        // Clamping keeps absurd projections (points near the camera plane) inside i32.
-        let x0 = lo.ceil().clamp(-1e9, 1e9) as i32;
-        let x1 = (hi.floor() + 1.0).clamp(-1e9, 1e9) as i32;
+        let x0 = ceil_i32(lo);
+        let x1 = floor_i32(hi) + 1;
         if x0 < x1 {
             Span { x0, x1 }
         } else {
@@ -333,12 +423,39 @@ impl Scanner {
         }
     }
 
-    /// Rasterises into `out`, reusing its allocation.
+    /// Rasterises into `out`, reusing its allocation. Each piece fills the rows it covers in
+    /// one tight loop (the compiler vectorises them), then the intervals become spans.
     pub fn spans_into(&self, roi: &Roi, out: &mut RowSpans) {
         let (first, end) = self.row_range(roi);
+        let n = (end - first) as usize;
         out.y0 = first;
+        out.lo.clear();
+        out.lo.resize(n, f64::INFINITY);
+        out.hi.clear();
+        out.hi.resize(n, f64::NEG_INFINITY);
+        if let Some(q) = &self.quad {
+            let r = overlap(q.rows, first, end);
+            q.set(
+                first + r.start as i32,
+                &mut out.lo[r.clone()],
+                &mut out.hi[r],
+            );
+        }
+        for e in self.ellipses.iter().flatten() {
+            let r = overlap(e.rows, first, end);
+            e.widen(
+                first + r.start as i32,
+                &mut out.lo[r.clone()],
+                &mut out.hi[r],
+            );
+        }
         out.spans.clear();
-        out.spans.extend((first..end).map(|y| self.span(y, roi)));
+        out.spans.extend(
+            out.lo
+                .iter()
+                .zip(&out.hi)
+                .map(|(&lo, &hi)| clipped_span(lo, hi, roi)),
+        );
     }
 }
 
@@ -402,7 +519,11 @@ impl BitMask {
             }
             let r = (spans.y0 + i as i32 - self.roi.y) as usize;
             let row = &mut self.words[r * self.stride..(r + 1) * self.stride];
-            set_run(row, (span.x0 - self.roi.x) as usize, (span.x1 - self.roi.x) as usize);
+            set_run(
+                row,
+                (span.x0 - self.roi.x) as usize,
+                (span.x1 - self.roi.x) as usize,
+            );
         }
     }
 

@@ -26,7 +26,11 @@ impl BodyRaster {
         let scanners = solids.map(|s| outline_of_solid(&s, camera).map(|o| Scanner::new(&o)));
         let mut order: [usize; PART_COUNT] = std::array::from_fn(|i| i);
         order.sort_by(|&a, &b| solids[a].centre().z.total_cmp(&solids[b].centre().z));
-        BodyRaster { roi, scanners, order }
+        BodyRaster {
+            roi,
+            scanners,
+            order,
+        }
     }
 
     /// The part's scanner, if the camera sees it.

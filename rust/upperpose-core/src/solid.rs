@@ -41,7 +41,11 @@ impl Frustum {
         let mut e1 = up.cross(&axis);
         if e1.norm_squared() < 1e-12 {
             // `up` is parallel to the axis: any direction that is not will do.
-            let other = if axis.x.abs() < 0.9 { Vector3::x() } else { Vector3::y() };
+            let other = if axis.x.abs() < 0.9 {
+                Vector3::x()
+            } else {
+                Vector3::y()
+            };
             e1 = other.cross(&axis);
         }
         let e1 = e1.normalize();
@@ -58,7 +62,11 @@ impl Frustum {
 
     /// The end disc at `p0` (`end = 0`) or `p1` (`end = 1`) as a flat ellipsoid.
     pub fn end_disc(&self, end: usize) -> Ellipsoid {
-        let (c, r) = if end == 0 { (self.p0, self.radii0) } else { (self.p1, self.radii1) };
+        let (c, r) = if end == 0 {
+            (self.p0, self.radii0)
+        } else {
+            (self.p1, self.radii1)
+        };
         Ellipsoid {
             centre: c,
             axes: Matrix3::from_columns(&[self.e1 * r[0], self.e2 * r[1], Vector3::zeros()]),
@@ -117,16 +125,32 @@ impl Part {
 /// The solid of one part of the posed body.
 pub fn solid_of_part(part: Part, skel: &Skeleton, body: &BodyModel) -> Solid {
     let t = &skel.torso;
-    let (x, y, z) = (t.column(0).into_owned(), t.column(1).into_owned(), t.column(2).into_owned());
+    let (x, y, z) = (
+        t.column(0).into_owned(),
+        t.column(1).into_owned(),
+        t.column(2).into_owned(),
+    );
     let arm_cone = |side: Side, lower: bool| {
         let arm = skel.arm(side);
         // The cross-section frame follows the limb's own x axis so it turns with the limb.
         if lower {
             let up = arm.lower.column(0).into_owned();
-            Frustum::cone(arm.elbow, arm.hand, body.lower_arm_radii[0], body.lower_arm_radii[1], &up)
+            Frustum::cone(
+                arm.elbow,
+                arm.hand,
+                body.lower_arm_radii[0],
+                body.lower_arm_radii[1],
+                &up,
+            )
         } else {
             let up = arm.upper.column(0).into_owned();
-            Frustum::cone(arm.shoulder, arm.elbow, body.upper_arm_radii[0], body.upper_arm_radii[1], &up)
+            Frustum::cone(
+                arm.shoulder,
+                arm.elbow,
+                body.upper_arm_radii[0],
+                body.upper_arm_radii[1],
+                &up,
+            )
         }
     };
     match part {
@@ -148,7 +172,11 @@ pub fn solid_of_part(part: Part, skel: &Skeleton, body: &BodyModel) -> Solid {
         }),
         Part::Head => Solid::Ellipsoid(Ellipsoid {
             centre: skel.head,
-            axes: Matrix3::from_columns(&[x * body.head_radii[0], y * body.head_radii[1], z * body.head_radii[2]]),
+            axes: Matrix3::from_columns(&[
+                x * body.head_radii[0],
+                y * body.head_radii[1],
+                z * body.head_radii[2],
+            ]),
         }),
         Part::RightUpperArm => Solid::Frustum(arm_cone(Side::Right, false)),
         Part::RightLowerArm => Solid::Frustum(arm_cone(Side::Right, true)),

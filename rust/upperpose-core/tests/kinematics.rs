@@ -1,5 +1,7 @@
 //! Forward kinematics against hand-computed joint positions, and invariants over random poses.
 
+#![allow(clippy::panic, clippy::unwrap_used, clippy::expect_used)] // test code may fail loudly
+
 use nalgebra::Vector3;
 use proptest::prelude::*;
 use std::f64::consts::FRAC_PI_2;
@@ -38,10 +40,20 @@ fn rest_pose_hangs_the_arms_straight_down() {
 fn abduction_moves_each_arm_out_to_its_own_side() {
     let b = BodyModel::default();
     let root = Vector3::new(0.0, 0.0, 3.0);
-    let s = skeleton_from_pose(&pose_with(&[(Dof::RightZUp, FRAC_PI_2), (Dof::LeftZUp, FRAC_PI_2)]), &root, &b);
+    let s = skeleton_from_pose(
+        &pose_with(&[(Dof::RightZUp, FRAC_PI_2), (Dof::LeftZUp, FRAC_PI_2)]),
+        &root,
+        &b,
+    );
     // Subject's right is the image's left (-X).
-    assert!(close(&s.right.elbow, &Vector3::new(-0.18 - 0.29, -0.20, 3.0)));
-    assert!(close(&s.right.hand, &Vector3::new(-0.18 - 0.63, -0.20, 3.0)));
+    assert!(close(
+        &s.right.elbow,
+        &Vector3::new(-0.18 - 0.29, -0.20, 3.0)
+    ));
+    assert!(close(
+        &s.right.hand,
+        &Vector3::new(-0.18 - 0.63, -0.20, 3.0)
+    ));
     assert!(close(&s.left.hand, &Vector3::new(0.18 + 0.63, -0.20, 3.0)));
 }
 
@@ -49,9 +61,19 @@ fn abduction_moves_each_arm_out_to_its_own_side() {
 fn flexion_points_the_arm_at_the_camera_and_the_elbow_bends_forwards() {
     let b = BodyModel::default();
     let root = Vector3::new(0.0, 0.0, 3.0);
-    let s = skeleton_from_pose(&pose_with(&[(Dof::RightXUp, FRAC_PI_2), (Dof::LeftXDown, FRAC_PI_2)]), &root, &b);
-    assert!(close(&s.right.elbow, &Vector3::new(-0.18, -0.20, 3.0 - 0.29)));
-    assert!(close(&s.right.hand, &Vector3::new(-0.18, -0.20, 3.0 - 0.63)));
+    let s = skeleton_from_pose(
+        &pose_with(&[(Dof::RightXUp, FRAC_PI_2), (Dof::LeftXDown, FRAC_PI_2)]),
+        &root,
+        &b,
+    );
+    assert!(close(
+        &s.right.elbow,
+        &Vector3::new(-0.18, -0.20, 3.0 - 0.29)
+    ));
+    assert!(close(
+        &s.right.hand,
+        &Vector3::new(-0.18, -0.20, 3.0 - 0.63)
+    ));
     // Left: upper arm hangs, forearm points at the camera.
     assert!(close(&s.left.elbow, &Vector3::new(0.18, 0.09, 3.0)));
     assert!(close(&s.left.hand, &Vector3::new(0.18, 0.09, 3.0 - 0.34)));
@@ -60,7 +82,11 @@ fn flexion_points_the_arm_at_the_camera_and_the_elbow_bends_forwards() {
 #[test]
 fn full_flexion_raises_the_arm_overhead() {
     let b = BodyModel::default();
-    let s = skeleton_from_pose(&pose_with(&[(Dof::LeftXUp, std::f64::consts::PI)]), &Vector3::zeros(), &b);
+    let s = skeleton_from_pose(
+        &pose_with(&[(Dof::LeftXUp, std::f64::consts::PI)]),
+        &Vector3::zeros(),
+        &b,
+    );
     assert!(close(&s.left.hand, &Vector3::new(0.18, -0.20 - 0.63, 0.0)));
 }
 
@@ -83,7 +109,11 @@ fn humeral_rotation_swings_a_bent_forearm_towards_the_midline() {
 #[test]
 fn forearm_twist_moves_no_joint() {
     let b = BodyModel::default();
-    let base = pose_with(&[(Dof::RightXUp, 0.7), (Dof::RightXDown, 1.2), (Dof::RightYUp, 0.4)]);
+    let base = pose_with(&[
+        (Dof::RightXUp, 0.7),
+        (Dof::RightXDown, 1.2),
+        (Dof::RightYUp, 0.4),
+    ]);
     let mut twisted = base;
     twisted.set(Dof::RightYDown, 1.3);
     let a = skeleton_from_pose(&base, &Vector3::zeros(), &b).joints();
@@ -97,15 +127,30 @@ fn forearm_twist_moves_no_joint() {
 fn torso_angles_turn_and_lean_the_whole_upper_body() {
     let b = BodyModel::default();
     // Turn: the right shoulder goes away from the camera.
-    let s = skeleton_from_pose(&pose_with(&[(Dof::TorsoY, FRAC_PI_2)]), &Vector3::zeros(), &b);
+    let s = skeleton_from_pose(
+        &pose_with(&[(Dof::TorsoY, FRAC_PI_2)]),
+        &Vector3::zeros(),
+        &b,
+    );
     assert!(close(&s.right.shoulder, &Vector3::new(0.0, -0.20, 0.18)));
     // Sideways lean: the head tips to +X (the subject's left).
-    let s = skeleton_from_pose(&pose_with(&[(Dof::TorsoZ, FRAC_PI_2)]), &Vector3::zeros(), &b);
+    let s = skeleton_from_pose(
+        &pose_with(&[(Dof::TorsoZ, FRAC_PI_2)]),
+        &Vector3::zeros(),
+        &b,
+    );
     assert!(close(&s.head, &Vector3::new(0.44, 0.0, 0.0)));
     // Forward lean of 90 degrees: the head comes at the camera, arms hang along -Z... of the torso.
-    let s = skeleton_from_pose(&pose_with(&[(Dof::TorsoX, FRAC_PI_2)]), &Vector3::zeros(), &b);
+    let s = skeleton_from_pose(
+        &pose_with(&[(Dof::TorsoX, FRAC_PI_2)]),
+        &Vector3::zeros(),
+        &b,
+    );
     assert!(close(&s.head, &Vector3::new(0.0, 0.0, -0.44)));
-    assert!(close(&s.right.hand, &Vector3::new(-0.18, 0.0, -0.20 + 0.63)));
+    assert!(close(
+        &s.right.hand,
+        &Vector3::new(-0.18, 0.0, -0.20 + 0.63)
+    ));
 }
 
 #[test]
@@ -113,11 +158,18 @@ fn composed_angles_follow_rz_ry_rx() {
     // Torso x = 0.3 then right arm abducted 90 degrees: the arm stays horizontal in the
     // leaning torso's frame: elbow = shoulder + R_x(0.3) * (-0.29, 0, 0) = shoulder - 0.29 X.
     let b = BodyModel::default();
-    let s = skeleton_from_pose(&pose_with(&[(Dof::TorsoX, 0.3), (Dof::RightZUp, FRAC_PI_2)]), &Vector3::zeros(), &b);
+    let s = skeleton_from_pose(
+        &pose_with(&[(Dof::TorsoX, 0.3), (Dof::RightZUp, FRAC_PI_2)]),
+        &Vector3::zeros(),
+        &b,
+    );
     let (c, sn) = (0.3f64.cos(), 0.3f64.sin());
     let shoulder = Vector3::new(-0.18, -0.20 * c, -0.20 * sn);
     assert!(close(&s.right.shoulder, &shoulder));
-    assert!(close(&s.right.elbow, &(shoulder + Vector3::new(-0.29, 0.0, 0.0))));
+    assert!(close(
+        &s.right.elbow,
+        &(shoulder + Vector3::new(-0.29, 0.0, 0.0))
+    ));
 }
 
 proptest! {

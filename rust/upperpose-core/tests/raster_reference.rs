@@ -1,12 +1,16 @@
 //! The rasteriser against exact ray casting of the 3D solids, over 1000 random poses.
 
+#![allow(clippy::panic, clippy::unwrap_used, clippy::expect_used)] // test code may fail loudly
+
 mod common;
 
 use nalgebra::Vector3;
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
 use upperpose_core::solid::solid_of_part;
-use upperpose_core::{skeleton_from_pose, BodyModel, BodyRaster, Camera, Dof, JointLimits, Part, Pose, Roi};
+use upperpose_core::{
+    skeleton_from_pose, BodyModel, BodyRaster, Camera, Dof, JointLimits, Part, Pose, Roi,
+};
 
 const W: i32 = 640;
 const H: i32 = 480;
@@ -15,10 +19,20 @@ const H: i32 = 480;
 /// at the camera so its cones are seen almost end-on.
 fn pose_strategy() -> impl Strategy<Value = Pose> {
     let limits = JointLimits::anatomical();
-    let ranges: Vec<(f64, f64)> = Dof::ALL.iter().map(|&d| (limits.range(d).lo(), limits.range(d).hi())).collect();
+    let ranges: Vec<(f64, f64)> = Dof::ALL
+        .iter()
+        .map(|&d| (limits.range(d).lo(), limits.range(d).hi()))
+        .collect();
     let uniform = ranges.iter().map(|&(lo, hi)| lo..=hi).collect::<Vec<_>>();
-    (uniform, 0..4u8, 1.35..1.8f64, -0.15..0.15f64, 0.0..0.35f64, any::<bool>()).prop_map(
-        |(angles, mode, x_up, z_up, x_down, right)| {
+    (
+        uniform,
+        0..4u8,
+        1.35..1.8f64,
+        -0.15..0.15f64,
+        0.0..0.35f64,
+        any::<bool>(),
+    )
+        .prop_map(|(angles, mode, x_up, z_up, x_down, right)| {
             let mut pose = Pose(angles.try_into().unwrap_or([0.0; 13]));
             if mode == 0 {
                 let (dx, dz, dd) = if right {
@@ -33,8 +47,7 @@ fn pose_strategy() -> impl Strategy<Value = Pose> {
                 pose.set(Dof::TorsoY, 0.0);
             }
             pose
-        },
-    )
+        })
 }
 
 fn camera_strategy() -> impl Strategy<Value = Camera> {
@@ -55,7 +68,8 @@ fn check_scene(pose: &Pose, root: Vector3<f64>, camera: &Camera) -> Result<(), S
         let solid = solid_of_part(part, &skel, &body);
         let mask = raster.silhouette(part);
         let (x0, y0, x1, y1) = common::pixel_bounds(&solid, camera, W, H);
-        let reference = |x: i32, y: i32| common::ray_hits(&solid, camera, f64::from(x), f64::from(y));
+        let reference =
+            |x: i32, y: i32| common::ray_hits(&solid, camera, f64::from(x), f64::from(y));
         let (mut inter, mut uni, mut area) = (0u64, 0u64, 0u64);
         for y in y0..y1 {
             for x in x0..x1 {
@@ -65,17 +79,26 @@ fn check_scene(pose: &Pose, root: Vector3<f64>, camera: &Camera) -> Result<(), S
                 area += u64::from(r);
                 if r != m {
                     // Every disagreement must touch the reference's outline.
-                    let near_outline = (-1..=1).any(|dy| (-1..=1).any(|dx| reference(x + dx, y + dy) != r));
+                    let near_outline =
+                        (-1..=1).any(|dy| (-1..=1).any(|dx| reference(x + dx, y + dy) != r));
                     if !near_outline {
-                        return Err(format!("{part:?}: pixel ({x}, {y}) differs away from the outline"));
+                        return Err(format!(
+                            "{part:?}: pixel ({x}, {y}) differs away from the outline"
+                        ));
                     }
                 }
             }
         }
         // Nothing drawn outside the reference's bounding box.
-        let outside = mask.count() - (y0..y1).flat_map(|y| (x0..x1).map(move |x| (x, y))).filter(|&(x, y)| mask.get(x, y)).count() as u64;
+        let outside = mask.count()
+            - (y0..y1)
+                .flat_map(|y| (x0..x1).map(move |x| (x, y)))
+                .filter(|&(x, y)| mask.get(x, y))
+                .count() as u64;
         if outside != 0 {
-            return Err(format!("{part:?}: {outside} pixels drawn outside the solid's bounds"));
+            return Err(format!(
+                "{part:?}: {outside} pixels drawn outside the solid's bounds"
+            ));
         }
         if area >= 1000 {
             let iou = inter as f64 / uni as f64;
@@ -97,10 +120,12 @@ fn silhouettes_match_ray_casting_over_1000_random_poses() {
         },
         TestRng::deterministic_rng(RngAlgorithm::ChaCha),
     );
-    let root = (-0.3..0.3f64, -0.1..0.3f64, 1.6..4.0f64).prop_map(|(x, y, z)| Vector3::new(x, y, z));
-    let result = runner.run(&(pose_strategy(), root, camera_strategy()), |(pose, root, camera)| {
-        check_scene(&pose, root, &camera).map_err(TestCaseError::fail)
-    });
+    let root =
+        (-0.3..0.3f64, -0.1..0.3f64, 1.6..4.0f64).prop_map(|(x, y, z)| Vector3::new(x, y, z));
+    let result = runner.run(
+        &(pose_strategy(), root, camera_strategy()),
+        |(pose, root, camera)| check_scene(&pose, root, &camera).map_err(TestCaseError::fail),
+    );
     if let Err(e) = result {
         panic!("{e}");
     }

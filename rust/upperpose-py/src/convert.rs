@@ -9,15 +9,24 @@ use upperpose_core::Pose;
 use crate::errors::IntoPy;
 
 /// A float64 1-D array of exactly `n` finite values.
-pub fn finite_vector<'a>(name: &str, array: &'a PyReadonlyArray1<'_, f64>, n: usize) -> PyResult<&'a [f64]> {
+pub fn finite_vector<'a>(
+    name: &str,
+    array: &'a PyReadonlyArray1<'_, f64>,
+    n: usize,
+) -> PyResult<&'a [f64]> {
     let values = array
         .as_slice()
         .map_err(|_| PyTypeError::new_err(format!("{name} must be a contiguous float64 array")))?;
     if values.len() != n {
-        return Err(PyValueError::new_err(format!("{name} must have shape ({n},), got ({},)", values.len())));
+        return Err(PyValueError::new_err(format!(
+            "{name} must have shape ({n},), got ({},)",
+            values.len()
+        )));
     }
     if let Some(bad) = values.iter().find(|v| !v.is_finite()) {
-        return Err(PyValueError::new_err(format!("{name} must be finite, got {bad}")));
+        return Err(PyValueError::new_err(format!(
+            "{name} must be finite, got {bad}"
+        )));
     }
     Ok(values)
 }
@@ -34,22 +43,38 @@ pub fn vector3_from_array(name: &str, array: &PyReadonlyArray1<'_, f64>) -> PyRe
 }
 
 /// An `(N, 3)` float64 array of finite points.
-pub fn points_from_array(name: &str, array: &PyReadonlyArray2<'_, f64>) -> PyResult<Vec<Vector3<f64>>> {
+pub fn points_from_array(
+    name: &str,
+    array: &PyReadonlyArray2<'_, f64>,
+) -> PyResult<Vec<Vector3<f64>>> {
     let shape = array.shape();
     if shape[1] != 3 {
-        return Err(PyValueError::new_err(format!("{name} must have shape (N, 3), got ({}, {})", shape[0], shape[1])));
+        return Err(PyValueError::new_err(format!(
+            "{name} must have shape (N, 3), got ({}, {})",
+            shape[0], shape[1]
+        )));
     }
     let values = array
         .as_slice()
         .map_err(|_| PyTypeError::new_err(format!("{name} must be a contiguous float64 array")))?;
     if let Some(bad) = values.iter().find(|v| !v.is_finite()) {
-        return Err(PyValueError::new_err(format!("{name} must be finite, got {bad}")));
+        return Err(PyValueError::new_err(format!(
+            "{name} must be finite, got {bad}"
+        )));
     }
-    Ok(values.chunks_exact(3).map(|c| Vector3::new(c[0], c[1], c[2])).collect())
+    Ok(values
+        .chunks_exact(3)
+        .map(|c| Vector3::new(c[0], c[1], c[2]))
+        .collect())
 }
 
 /// Rows of 3-vectors as an `(N, 3)` float64 array.
-pub fn array_from_points<'py>(py: Python<'py>, points: &[Vector3<f64>]) -> PyResult<Bound<'py, PyAny>> {
+pub fn array_from_points<'py>(
+    py: Python<'py>,
+    points: &[Vector3<f64>],
+) -> PyResult<Bound<'py, PyAny>> {
     let flat: Vec<f64> = points.iter().flat_map(|p| [p.x, p.y, p.z]).collect();
-    Ok(PyArray1::from_vec(py, flat).reshape([points.len(), 3])?.into_any())
+    Ok(PyArray1::from_vec(py, flat)
+        .reshape([points.len(), 3])?
+        .into_any())
 }

@@ -11,14 +11,20 @@ use upperpose_core::{skeleton_from_pose, Dof, JointLimits, Part, Skeleton, PART_
 use crate::convert::{array_from_points, pose_from_array, vector3_from_array};
 use crate::model::PyBodyModel;
 
-fn posed(pose: &PyReadonlyArray1<'_, f64>, root: &PyReadonlyArray1<'_, f64>, body: &PyBodyModel) -> PyResult<Skeleton> {
+fn posed(
+    pose: &PyReadonlyArray1<'_, f64>,
+    root: &PyReadonlyArray1<'_, f64>,
+    body: &PyBodyModel,
+) -> PyResult<Skeleton> {
     let pose = pose_from_array(pose)?;
     let root = vector3_from_array("root", root)?;
     Ok(skeleton_from_pose(&pose, &root, &body.inner))
 }
 
 fn matrix<'py>(py: Python<'py>, m: &Matrix3<f64>) -> PyResult<Bound<'py, PyAny>> {
-    let rows: Vec<f64> = (0..3).flat_map(|r| (0..3).map(move |c| m[(r, c)])).collect();
+    let rows: Vec<f64> = (0..3)
+        .flat_map(|r| (0..3).map(move |c| m[(r, c)]))
+        .collect();
     Ok(PyArray1::from_vec(py, rows).reshape([3, 3])?.into_any())
 }
 
@@ -67,7 +73,10 @@ pub fn skeleton_py<'py>(
     let d = PyDict::new(py);
     d.set_item("joints", array_from_points(py, &s.joints())?)?;
     d.set_item("root", PyArray1::from_slice(py, s.root.as_slice()))?;
-    d.set_item("neck_base", PyArray1::from_slice(py, s.neck_base.as_slice()))?;
+    d.set_item(
+        "neck_base",
+        PyArray1::from_slice(py, s.neck_base.as_slice()),
+    )?;
     d.set_item("torso", matrix(py, &s.torso)?)?;
     d.set_item("right_upper", matrix(py, &s.right.upper)?)?;
     d.set_item("right_lower", matrix(py, &s.right.lower)?)?;
@@ -137,6 +146,13 @@ pub fn joint_limits_py(preset: &str) -> PyResult<Vec<Vec<(f64, f64)>>> {
     };
     Ok(Dof::ALL
         .iter()
-        .map(|&d| limits.range(d).intervals().iter().map(|i| (i.lo, i.hi)).collect())
+        .map(|&d| {
+            limits
+                .range(d)
+                .intervals()
+                .iter()
+                .map(|i| (i.lo, i.hi))
+                .collect()
+        })
         .collect())
 }

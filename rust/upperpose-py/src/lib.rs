@@ -16,7 +16,10 @@ fn _upperpose(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("ANGLE_NAMES", DOF_NAMES.to_vec())?;
     m.add("JOINT_NAMES", JOINT_NAMES.to_vec())?;
     m.add("PART_NAMES", PART_NAMES.to_vec())?;
-    m.add("UpperposeError", m.py().get_type::<errors::UpperposeError>())?;
+    m.add(
+        "UpperposeError",
+        m.py().get_type::<errors::UpperposeError>(),
+    )?;
     m.add_class::<model::PyBodyModel>()?;
     m.add_class::<model::PyCamera>()?;
     m.add_function(wrap_pyfunction!(kinematics::forward_kinematics_py, m)?)?;

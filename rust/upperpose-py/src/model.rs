@@ -22,6 +22,7 @@ macro_rules! body_fields {
         impl PyBodyModel {
             #[new]
             #[pyo3(signature = (*, $($field = None),*))]
+            #[allow(clippy::too_many_arguments)] // one keyword argument per dimension
             fn new($($field: Option<$ty>),*) -> PyResult<Self> {
                 let mut inner = BodyModel::default();
                 $(if let Some(v) = $field { inner.$field = v; })*
@@ -188,7 +189,11 @@ impl PyCamera {
     ///
     /// Raises:
     ///     ValueError: wrong shape or non-finite values.
-    fn project<'py>(&self, py: Python<'py>, points: PyReadonlyArray2<'py, f64>) -> PyResult<Bound<'py, PyAny>> {
+    fn project<'py>(
+        &self,
+        py: Python<'py>,
+        points: PyReadonlyArray2<'py, f64>,
+    ) -> PyResult<Bound<'py, PyAny>> {
         let pts = points_from_array("points", &points)?;
         let flat: Vec<f64> = pts
             .iter()
@@ -197,14 +202,22 @@ impl PyCamera {
                 None => [f64::NAN, f64::NAN],
             })
             .collect();
-        Ok(PyArray1::from_vec(py, flat).reshape([pts.len(), 2])?.into_any())
+        Ok(PyArray1::from_vec(py, flat)
+            .reshape([pts.len(), 2])?
+            .into_any())
     }
 
     fn __repr__(&self) -> String {
         let c = &self.inner;
         match c.projection {
-            Projection::Perspective => format!("Camera.perspective(focal={}, cx={}, cy={})", c.focal, c.cx, c.cy),
-            Projection::Orthographic => format!("Camera.orthographic(scale={}, cx={}, cy={})", c.focal, c.cx, c.cy),
+            Projection::Perspective => format!(
+                "Camera.perspective(focal={}, cx={}, cy={})",
+                c.focal, c.cx, c.cy
+            ),
+            Projection::Orthographic => format!(
+                "Camera.orthographic(scale={}, cx={}, cy={})",
+                c.focal, c.cx, c.cy
+            ),
             Projection::WeakPerspective { reference_depth } => format!(
                 "Camera.weak_perspective(focal={}, cx={}, cy={}, reference_depth={})",
                 c.focal, c.cx, c.cy, reference_depth

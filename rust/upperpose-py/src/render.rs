@@ -82,12 +82,19 @@ pub fn render_masks_py<'py>(
             .zip(&contours)
             .map(|(&p, c)| (bytes_from_mask(&raster.silhouette(p)), bytes_from_mask(c)))
             .collect();
-        (bytes_from_mask(&raster.union()), labels, bytes_from_mask(&all_contours), parts)
+        (
+            bytes_from_mask(&raster.union()),
+            labels,
+            bytes_from_mask(&all_contours),
+            parts,
+        )
     });
     let (union, labels, contour, parts) = rendered;
     let shape = [roi.height as usize, roi.width as usize];
     let d = PyDict::new(py);
-    let put = |key: &str, data: Vec<u8>| -> PyResult<()> { d.set_item(key, PyArray1::from_vec(py, data).reshape(shape)?) };
+    let put = |key: &str, data: Vec<u8>| -> PyResult<()> {
+        d.set_item(key, PyArray1::from_vec(py, data).reshape(shape)?)
+    };
     put("silhouette", union)?;
     put("labels", labels)?;
     put("contour", contour)?;

@@ -1,6 +1,6 @@
 //! Independent references for the integration tests: exact ray casting against the 3D solids.
 
-#![allow(dead_code)]
+#![allow(dead_code, clippy::panic, clippy::unwrap_used, clippy::expect_used)] // test code may fail loudly
 
 use nalgebra::Vector3;
 use upperpose_core::solid::{Ellipsoid, Frustum, Solid};
@@ -12,7 +12,11 @@ fn ray(camera: &Camera, u: f64, v: f64) -> (Vector3<f64>, Vector3<f64>, bool) {
     match camera.affine_scale() {
         None => (
             Vector3::zeros(),
-            Vector3::new((u - camera.cx) / camera.focal, (v - camera.cy) / camera.focal, 1.0),
+            Vector3::new(
+                (u - camera.cx) / camera.focal,
+                (v - camera.cy) / camera.focal,
+                1.0,
+            ),
             true,
         ),
         Some(s) => (
@@ -94,26 +98,45 @@ pub fn ray_hits(solid: &Solid, camera: &Camera, u: f64, v: f64) -> bool {
 }
 
 /// A pixel box holding the solid's projection: the projected corners of a 3D box around it.
-pub fn pixel_bounds(solid: &Solid, camera: &Camera, width: i32, height: i32) -> (i32, i32, i32, i32) {
+pub fn pixel_bounds(
+    solid: &Solid,
+    camera: &Camera,
+    width: i32,
+    height: i32,
+) -> (i32, i32, i32, i32) {
     let (centre, half): (Vector3<f64>, Vector3<f64>) = match solid {
         Solid::Frustum(f) => {
-            let r = f.radii0[0].max(f.radii0[1]).max(f.radii1[0]).max(f.radii1[1]);
+            let r = f.radii0[0]
+                .max(f.radii0[1])
+                .max(f.radii1[0])
+                .max(f.radii1[1]);
             let lo = f.p0.inf(&f.p1) - Vector3::repeat(r);
             let hi = f.p0.sup(&f.p1) + Vector3::repeat(r);
             ((lo + hi) / 2.0, (hi - lo) / 2.0)
         }
         Solid::Ellipsoid(e) => {
-            let h = Vector3::new(e.axes.row(0).norm(), e.axes.row(1).norm(), e.axes.row(2).norm());
+            let h = Vector3::new(
+                e.axes.row(0).norm(),
+                e.axes.row(1).norm(),
+                e.axes.row(2).norm(),
+            );
             (e.centre, h)
         }
     };
-    let (mut x0, mut y0, mut x1, mut y1) = (f64::INFINITY, f64::INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY);
+    let (mut x0, mut y0, mut x1, mut y1) = (
+        f64::INFINITY,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        f64::NEG_INFINITY,
+    );
     for i in 0..8 {
         let sx = if i & 1 == 0 { -1.0 } else { 1.0 };
         let sy = if i & 2 == 0 { -1.0 } else { 1.0 };
         let sz = if i & 4 == 0 { -1.0 } else { 1.0 };
         let p = centre + Vector3::new(sx * half.x, sy * half.y, sz * half.z);
-        let uv = camera.project(&p).expect("test scenes keep solids in front of the camera");
+        let uv = camera
+            .project(&p)
+            .expect("test scenes keep solids in front of the camera");
         x0 = x0.min(uv.x);
         y0 = y0.min(uv.y);
         x1 = x1.max(uv.x);
@@ -121,5 +144,10 @@ pub fn pixel_bounds(solid: &Solid, camera: &Camera, width: i32, height: i32) -> 
     }
     let clampx = |v: f64| (v as i32).clamp(0, width);
     let clampy = |v: f64| (v as i32).clamp(0, height);
-    (clampx(x0.floor() - 1.0), clampy(y0.floor() - 1.0), clampx(x1.ceil() + 2.0), clampy(y1.ceil() + 2.0))
+    (
+        clampx(x0.floor() - 1.0),
+        clampy(y0.floor() - 1.0),
+        clampx(x1.ceil() + 2.0),
+        clampy(y1.ceil() + 2.0),
+    )
 }

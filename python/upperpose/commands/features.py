@@ -1,0 +1,116 @@
+"""`upperpose features`: a contact sheet of every image feature of one video frame."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import warnings
+from pathlib import Path
+
+import cv2
+import numpy as np
+import numpy.typing as npt
+
+from upperpose.exceptions import VideoError
+from upperpose.features import (
+    SKIN_SPACES,
+    Background,
+    CleanPlateWarning,
+    FeatureConfig,
+    FeatureExtractor,
+)
+from upperpose.features.background import background_from_video
+from upperpose.features.sheet import contact_sheet
+from upperpose.files import write_image
+
+NAME = "features"
+HELP = "write a labelled contact sheet of every image feature of one frame, to see why tracking fails"
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    """Options of the subcommand."""
+    p.add_argument("video", help="the video")
+    p.add_argument("--frame", type=int, default=0, help="frame number, from 0 (default: 0)")
+    p.add_argument(
+        "-o",
+        "--output",
+        default="features.png",
+        help="image to write (default: features.png)",
+    )
+    p.add_argument(
+        "--background",
+        metavar="IMAGE",
+        help="clean plate: a photo of the scene without the person (default: estimated from the video)",
+    )
+    p.add_argument(
+        "--skin",
+        choices=SKIN_SPACES,
+        default="rgb",
+        help="skin colour rule (default: rgb, the thesis')",
+    )
+    p.add_argument(
+        "--poses",
+        metavar="JSON",
+        help="poses file (SPEC 9 format, e.g. tracker output or ground "
+        "truth): the previous frame's joints_2d serve as the prediction for head and hand matching",
+    )
+
+
+def read_frames(path: str, index: int) -> tuple[npt.NDArray[np.uint8] | None, npt.NDArray[np.uint8]]:
+    """Frames `index - 1` (None for index 0) and `index` of a video.
+
+    Raises:
+        VideoError: the video cannot be opened or is shorter than `index + 1` frames.
+    """
+    capture = cv2.VideoCapture(path)
+    if not capture.isOpened():
+        raise VideoError(f"cannot open video {path}")
+    previous = None
+    try:
+        for i in range(index + 1):
+            ok, frame = capture.read()
+            if not ok:
+                raise VideoError(f"video {path} has only {i} frames; --frame {index} is past its end")
+            if i == index - 1:
+                previous = frame
+    finally:
+        capture.release()
+    return previous, frame
+
+
+def predicted_joints(path: str, index: int) -> npt.NDArray[np.float64] | None:
+    """joints_2d of frame `index - 1` (or `index` for the first frame) from a poses file, or None."""
+    data = json.loads(Path(path).read_text())
+    frames = {f["frame"]: f for f in data.get("frames", [])}
+    entry = frames.get(max(index - 1, 0))
+    if entry is None or entry.get("joints_2d") is None:
+        return None
+    return np.asarray(entry["joints_2d"], dtype=np.float64)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Computes the features of the frame and writes the sheet."""
+    if args.frame < 0:
+        raise ValueError(f"--frame must be >= 0, got {args.frame}")
+    config = FeatureConfig(skin_space=args.skin)
+    previous, frame = read_frames(args.video, args.frame)
+    if args.background:
+        plate = cv2.imread(args.background, cv2.IMREAD_COLOR)
+        if plate is None:
+            raise VideoError(f"cannot read background image {args.background}")
+        background = Background.from_plate(plate, config)
+    else:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", CleanPlateWarning)
+            background = background_from_video(args.video, config)
+        for w in caught:
+            print(f"upperpose features: warning: {w.message}")
+    joints = predicted_joints(args.poses, args.frame) if args.poses else None
+    extract = FeatureExtractor(background, config)
+    if previous is not None:
+        extract.prime(previous)
+    features = extract(frame, joints)
+    title = f"{Path(args.video).name}  frame {args.frame}  skin rule: {args.skin}"
+    path = write_image(args.output, contact_sheet(frame, features, background, title))
+    print(f"wrote {path}")
+    return 0

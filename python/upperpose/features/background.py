@@ -1,0 +1,324 @@
+"""The background model: a clean plate, its derivative images and its skin mask, computed once.
+
+Without a clean plate the plate is estimated from the video (`estimate_plate`): if the video
+opens on a static scene with no face in it, the median of that lead-in is the plate; otherwise a
+temporal median with the person masked out (median, mark each sample's foreground against it,
+median over the remaining samples, repeated). Neither can see behind a person who never
+moves, hence the `CleanPlateWarning`.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import warnings
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+import cv2
+import numpy as np
+import numpy.typing as npt
+
+from upperpose.exceptions import VideoError
+from upperpose.features.checks import Frame, Mask, check_frame
+from upperpose.features.config import FeatureConfig
+from upperpose.features.skin import skin_mask
+
+Int16Image = npt.NDArray[np.int16]
+
+
+class CleanPlateWarning(UserWarning):
+    """The background was estimated from the video; a photo of the empty scene is better."""
+
+
+def square(size: int) -> npt.NDArray[np.uint8] | None:
+    """A `size` x `size` structuring element, or None for sizes below 2 (no operation)."""
+    return np.ones((size, size), np.uint8) if size >= 2 else None
+
+
+def grey_for_edges(frame: Frame, blur: int) -> npt.NDArray[np.uint8]:
+    """The grey image the edge feature differentiates: BGR to grey, then an optional blur."""
+    grey = cv2.cvtColor(frame, cv2.COLOR_BGR2GRAY)
+    return cv2.GaussianBlur(grey, (blur, blur), 0) if blur >= 2 else grey
+
+
+def sobel_pair(grey: npt.NDArray[np.uint8]) -> tuple[Int16Image, Int16Image]:
+    """3x3 Sobel derivatives in x and y as int16 images."""
+    return cv2.Sobel(grey, cv2.CV_16S, 1, 0, ksize=3), cv2.Sobel(grey, cv2.CV_16S, 0, 1, ksize=3)
+
+
+def colour_change(
+    a: Frame,
+    b: Frame,
+    threshold: int,
+    work: tuple[Frame, Frame, Mask] | None = None,
+    out: Mask | None = None,
+) -> Mask:
+    """255 where any channel of two BGR frames differs by more than `threshold`, else 0.
+
+    A per-channel test keeps chroma changes that a grey difference would hide (a blue shirt
+    over a green wall of the same brightness).
+
+    Args:
+        a: `(H, W, 3)` uint8 frame.
+        b: `(H, W, 3)` uint8 frame of the same size.
+        threshold: largest per-channel difference still counted as unchanged.
+        work: optional preallocated ((H, W, 3), (H, W, 3), (H, W)) uint8 scratch arrays.
+        out: optional preallocated `(H, W)` uint8 result.
+    """
+    if work is None:
+        diff, over, grey = (
+            np.empty_like(a),
+            np.empty_like(a),
+            np.empty(a.shape[:2], np.uint8),
+        )
+    else:
+        diff, over, grey = work
+    cv2.absdiff(a, b, dst=diff)
+    cv2.compare(diff, threshold, cv2.CMP_GT, dst=over)
+    cv2.cvtColor(over, cv2.COLOR_BGR2GRAY, dst=grey)  # nonzero iff some channel is 255
+    return cv2.compare(grey, 0, cv2.CMP_GT, dst=out) if out is not None else cv2.compare(grey, 0, cv2.CMP_GT)
+
+
+@dataclass(frozen=True)
+class Background:
+    """A background plate with everything derived from it that the per-frame features reuse.
+
+    Attributes:
+        plate: `(H, W, 3)` uint8 BGR image of the empty scene.
+        dx, dy: `(H, W)` int16 Sobel derivatives of its (blurred) grey image.
+        skin: `(H, W)` uint8, 255 where the plate itself is skin-coloured (dilated), so that
+            static skin-coloured objects are not taken for skin.
+        config: the configuration these were computed with.
+        estimated: True when the plate was estimated from the video, not given.
+        method: how the plate was made: "given", "lead-in median" or "masked median".
+    """
+
+    plate: Frame
+    dx: Int16Image
+    dy: Int16Image
+    skin: Mask
+    config: FeatureConfig
+    estimated: bool = False
+    method: str = "given"
+    notes: list[str] = field(default_factory=list)
+
+    @property
+    def size(self) -> tuple[int, int]:
+        """(height, width) in pixels."""
+        return (int(self.plate.shape[0]), int(self.plate.shape[1]))
+
+    @classmethod
+    def from_plate(
+        cls,
+        plate: Frame,
+        config: FeatureConfig | None = None,
+        *,
+        estimated: bool = False,
+        method: str = "given",
+    ) -> Background:
+        """Derivative images and skin mask of a clean plate.
+
+        Args:
+            plate: `(H, W, 3)` uint8 BGR image of the scene without the person.
+            config: thresholds; defaults when None.
+            estimated: whether the plate was estimated rather than photographed.
+            method: a short description of how the plate was made.
+
+        Raises:
+            ValueError: the plate is not an `(H, W, 3)` uint8 image.
+        """
+        config = config or FeatureConfig()
+        plate = check_frame(plate, "background")
+        dx, dy = sobel_pair(grey_for_edges(plate, config.edge_blur))
+        skin = skin_mask(plate, config)
+        kernel = square(config.background_skin_dilate)
+        if kernel is not None:
+            skin = cv2.dilate(skin, kernel)
+        for image in (plate, dx, dy, skin):
+            image.setflags(write=False)
+        return cls(plate, dx, dy, skin, config, estimated, method)
+
+    def with_config(self, config: FeatureConfig) -> Background:
+        """The same plate with its derived images recomputed for another configuration."""
+        if config == self.config:
+            return self
+        return Background.from_plate(self.plate, config, estimated=self.estimated, method=self.method)
+
+
+def masked_median(stack: npt.NDArray[np.uint8], foreground: npt.NDArray[np.bool_], fallback: Frame) -> Frame:
+    """Per-pixel median over the samples where `foreground` is False.
+
+    Args:
+        stack: `(N, H, W, 3)` uint8 samples.
+        foreground: `(N, H, W)` bool, True where a sample shows the person.
+        fallback: `(H, W, 3)` value for pixels where every sample is foreground.
+
+    Returns:
+        `(H, W, 3)` uint8.
+    """
+    values = stack.astype(np.uint16)
+    values[foreground] = 1024  # sorts after every valid value
+    values.sort(axis=0)
+    valid = (~foreground).sum(axis=0)
+    index = np.maximum(valid - 1, 0) // 2
+    median = np.take_along_axis(values, index[None, :, :, None].repeat(3, axis=3), axis=0)[0]
+    out = np.where((valid > 0)[:, :, None], median, fallback)
+    return out.astype(np.uint8)
+
+
+def foreground_against(stack: npt.NDArray[np.uint8], plate: Frame, config: FeatureConfig) -> npt.NDArray[np.bool_]:
+    """Each sample's pixels that differ from `plate` (dilated): `(N, H, W)` bool."""
+    kernel = square(config.bg_mask_dilate)
+    masks = []
+    for sample in stack:
+        fg = colour_change(sample, plate, config.bg_threshold)
+        masks.append(cv2.dilate(fg, kernel) if kernel is not None else fg)
+    return np.stack(masks) > 0
+
+
+def iterative_masked_median(samples: Sequence[Frame], config: FeatureConfig) -> Frame:
+    """Temporal median with the person masked out.
+
+    Median, then `bg_iterations` rounds of marking each sample's foreground against the current
+    plate and taking the median of the rest.
+    """
+    stack = np.stack(samples)
+    plate = np.median(stack, axis=0).astype(np.uint8)
+    for _ in range(config.bg_iterations):
+        plate = masked_median(stack, foreground_against(stack, plate, config), plate)
+    return plate
+
+
+def has_face(frames: Sequence[Frame]) -> bool:
+    """Whether OpenCV's frontal Haar cascade finds a face in any of `frames`."""
+    path = os.path.join(cv2.data.haarcascades, "haarcascade_frontalface_default.xml")
+    detector = cv2.CascadeClassifier(path)
+    if detector.empty():
+        return False
+    for frame in frames:
+        grey = cv2.equalizeHist(cv2.cvtColor(frame, cv2.COLOR_BGR2GRAY))
+        min_side = max(20, min(grey.shape) // 16)
+        if len(detector.detectMultiScale(grey, 1.1, 5, minSize=(min_side, min_side))):
+            return True
+    return False
+
+
+def static_prefix(lead: Sequence[Frame], config: FeatureConfig) -> int:
+    """Number of lead-in frames, from the first, that hardly differ from the first."""
+    first = lead[0]
+    limit = config.bg_static_fraction * first.shape[0] * first.shape[1]
+    for i, frame in enumerate(lead):
+        if cv2.countNonZero(colour_change(frame, first, config.bg_threshold)) > limit:
+            return i
+    return len(lead)
+
+
+def estimate_plate(lead: Sequence[Frame], samples: Sequence[Frame], config: FeatureConfig) -> tuple[Frame, str]:
+    """Estimates the empty scene from the video's lead-in frames and frames sampled over it all.
+
+    Args:
+        lead: the frames of the first `bg_lead_seconds`, in order (may be empty).
+        samples: frames spread over the whole video.
+        config: thresholds.
+
+    Returns:
+        The plate and the method used ("lead-in median" or "masked median").
+    """
+    if lead:
+        n = static_prefix(lead, config)
+        if n >= max(3, len(lead) // 4):
+            plate = np.median(np.stack(lead[:n]), axis=0).astype(np.uint8)
+            area = plate.shape[0] * plate.shape[1]
+            changed = [cv2.countNonZero(colour_change(s, plate, config.bg_threshold)) / area for s in samples]
+            someone_enters = max(changed, default=0.0) > 0.01
+            if someone_enters and not has_face([lead[0], lead[n // 2], lead[n - 1]]):
+                return plate, "lead-in median"
+    return iterative_masked_median(list(samples) + list(lead[:1]), config), "masked median"
+
+
+def sample_video(path: str | os.PathLike[str], config: FeatureConfig) -> tuple[list[Frame], list[Frame], float]:
+    """Reads a video once: its lead-in frames and up to `bg_max_samples` frames spread over it.
+
+    Returns:
+        (lead-in frames, samples, frames per second).
+
+    Raises:
+        VideoError: the video cannot be opened or has no frames.
+    """
+    capture = cv2.VideoCapture(str(path))
+    if not capture.isOpened():
+        raise VideoError(f"cannot open video {path}")
+    try:
+        fps = capture.get(cv2.CAP_PROP_FPS) or 30.0
+        count = int(capture.get(cv2.CAP_PROP_FRAME_COUNT))
+        step = max(1, math.ceil(count / config.bg_max_samples)) if count > 0 else 1
+        lead_count = max(1, round(config.bg_lead_seconds * fps))
+        lead: list[Frame] = []
+        samples: list[Frame] = []
+        index = 0
+        while True:
+            ok, frame = capture.read()
+            if not ok:
+                break
+            if index < lead_count:
+                lead.append(frame)
+            if index % step == 0:
+                samples.append(frame)
+            index += 1
+    finally:
+        capture.release()
+    if not samples:
+        raise VideoError(f"video {path} has no frames")
+    if len(samples) > config.bg_max_samples:
+        keep = np.linspace(0, len(samples) - 1, config.bg_max_samples).round().astype(int)
+        samples = [samples[i] for i in keep]
+    return lead, samples, float(fps)
+
+
+def estimate_background(
+    lead: Sequence[Frame], samples: Sequence[Frame], config: FeatureConfig | None = None
+) -> Background:
+    """A background estimated from video frames, with a `CleanPlateWarning`.
+
+    Args:
+        lead: frames of the video's first `bg_lead_seconds` (may be empty).
+        samples: at least one frame; frames spread over the whole video.
+        config: thresholds; defaults when None.
+
+    Raises:
+        ValueError: no samples, or frames that are not `(H, W, 3)` uint8 of one size.
+    """
+    config = config or FeatureConfig()
+    if len(samples) == 0:
+        raise ValueError("background estimation needs at least one frame")
+    size = check_frame(samples[0], "frame 0").shape[:2]
+    samples = [check_frame(s, f"sample {i}", size) for i, s in enumerate(samples)]
+    lead = [check_frame(f, f"lead-in frame {i}", size) for i, f in enumerate(lead)]
+    plate, method = estimate_plate(lead, samples, config)
+    warnings.warn(
+        f"no clean plate given: the background was estimated from the video ({method}); "
+        "a photo of the empty scene (--background) gives better silhouettes, "
+        "and an estimate keeps the parts of a person who hardly moves",
+        CleanPlateWarning,
+        stacklevel=2,
+    )
+    return Background.from_plate(plate, config, estimated=True, method=method)
+
+
+def background_from_video(
+    path: str | os.PathLike[str],
+    config: FeatureConfig | None = None,
+    plate: Frame | None = None,
+) -> Background:
+    """The background for a video: `plate` when given, else estimated (with a `CleanPlateWarning`).
+
+    Raises:
+        VideoError: the video cannot be read.
+        ValueError: the plate is not an `(H, W, 3)` uint8 image.
+    """
+    config = config or FeatureConfig()
+    if plate is not None:
+        return Background.from_plate(plate, config)
+    lead, samples, _ = sample_video(path, config)
+    return estimate_background(lead, samples, config)

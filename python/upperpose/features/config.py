@@ -1,0 +1,183 @@
+"""Every threshold of the image features (SPEC 4) in one frozen configuration object."""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+from typing import Literal
+
+SkinSpace = Literal["rgb", "ycrcb", "hsv"]
+SKIN_SPACES: tuple[str, ...] = ("rgb", "ycrcb", "hsv")
+
+
+@dataclass(frozen=True)
+class FeatureConfig:
+    """Thresholds and sizes of the image features; pixel values are 0..255 unless stated.
+
+    Lengths in pixels are for a 640x480 frame; they do not scale with the image.
+    Change one field with `dataclasses.replace(config, field=value)` or `config.replace(...)`.
+    """
+
+    sub_threshold: int = 15
+    """I_sub: a pixel is foreground when any of its B, G, R values differs from the
+    background's by more than this."""
+
+    sub_open: int = 3
+    """I_sub: side of the square opening that removes isolated noise pixels (0 or 1: none)."""
+
+    sub_close: int = 0
+    """I_sub: side of the square closing that fills small holes (0 or 1: none; the closing
+    of I_sil fills them in the silhouette)."""
+
+    edge_threshold: int = 120
+    """I_edge: threshold on |dx_frame - dx_background| + |dy_frame - dy_background|, the
+    3x3 Sobel derivatives of the grey frame and the grey background (int16 units; a
+    step of 30 grey levels across a pixel gives 120)."""
+
+    edge_blur: int = 3
+    """I_edge: side of the Gaussian blur applied to both grey images before Sobel, against
+    compression noise (0 or 1: none)."""
+
+    motion_threshold: int = 15
+    """I_motion: grey-level absolute difference between consecutive frames counted as motion."""
+
+    skin_space: SkinSpace = "rgb"
+    """I_skin0 colour rule: "rgb" is the thesis' 20 <= R - G <= 80 (§2.5); "ycrcb" and "hsv"
+    are the alternatives §5.2 asks for (ranges below)."""
+
+    rgb_rg_min: int = 20
+    """RGB rule: smallest R - G of a skin pixel."""
+
+    rgb_rg_max: int = 80
+    """RGB rule: largest R - G of a skin pixel."""
+
+    ycrcb_min: tuple[int, int, int] = (40, 135, 80)
+    """YCrCb rule: lower bounds of (Y, Cr, Cb) (OpenCV 8-bit YCrCb, Cr and Cb offset by 128)."""
+
+    ycrcb_max: tuple[int, int, int] = (255, 175, 130)
+    """YCrCb rule: upper bounds of (Y, Cr, Cb)."""
+
+    hsv_hue_max: int = 22
+    """HSV rule: skin hue is 0..hsv_hue_max or 180 - hsv_hue_max..180 (OpenCV hue is 0..180)."""
+
+    hsv_min_sv: tuple[int, int] = (40, 50)
+    """HSV rule: smallest saturation and value of a skin pixel."""
+
+    hsv_max_s: int = 190
+    """HSV rule: largest saturation of a skin pixel (saturated reds are clothes, not skin)."""
+
+    background_skin_dilate: int = 3
+    """Background skin mask: side of its dilation, so that the blurred rims of skin-coloured
+    background objects are dropped too (0 or 1: none)."""
+
+    skin_open: int = 3
+    """I_skin: side of the square opening that removes speckle (0 or 1: none)."""
+
+    sil_edge_trim: int = 2
+    """I_sil: edge-only pixels within this many pixels of the outside of I_sub | I_edge | I_skin
+    are dropped. Sobel on a blurred image marks about two pixels on each side of the person's
+    outline, so the plain union of Eq. 3.4.1-1 grows the silhouette by a rim (0: plain union)."""
+
+    sil_close: int = 7
+    """I_sil: side of the square closing of I_sub | I_edge | I_skin (0 or 1: none)."""
+
+    feature_dilate: int = 3
+    """Packed edge and motion maps: side of the square dilation, so that a model contour one
+    pixel off still counts (SPEC 5: 1-2 px; 3 means one pixel each way)."""
+
+    blob_min_area: int = 60
+    """Skin blobs: smallest area in pixels."""
+
+    blob_min_gradient: float = 0.03
+    """Skin blobs: smallest blob gradient probability P_SB = sum(I_edge) / N (Eq. 3.4.4.2-1,
+    I_edge as 0/1); a static skin-coloured object that slipped through has P_SB near 0."""
+
+    hand_gate: float = 0.9
+    """Hand and head matching: largest distance from the predicted joint to the nearest
+    blob pixel, in units of the predicted shoulder width."""
+
+    hand_length: float = 0.5
+    """Hand point: the point is the centroid of the last `hand_length` shoulder widths of
+    the blob along the forearm (the hand, with fingers), so that a blob that also covers
+    the forearm (short sleeves) still gives the hand."""
+
+    head_length: float = 0.5
+    """Head point: centroid of the top `head_length` shoulder widths of the head blob along
+    the neck-to-head direction (drops a bare neck)."""
+
+    min_shoulder_px: float = 20.0
+    """Smallest shoulder width in pixels used for the scale of gates (a turned torso
+    foreshortens the predicted shoulders)."""
+
+    startup_shoulder_faces: float = 2.2
+    """At start-up (no prediction): shoulder width assumed, in face-blob widths."""
+
+    motion_dilate: int = 9
+    """Motion flags: side of the dilation of each part's previous projection."""
+
+    motion_perimeter_fraction: float = 0.5
+    """Motion flags: a part moves when its motion count exceeds this fraction of the
+    perimeter of its projection (§3.4.3: one half)."""
+
+    arm_torso_erode: int = 0
+    """Arm silhouette: pixels the torso region is shrunk by before it is cut out (0: the
+    torso+neck+head projection as it is)."""
+
+    bg_max_samples: int = 40
+    """Background estimation: most frames sampled over the video for the temporal median."""
+
+    bg_threshold: int = 25
+    """Background estimation: colour difference that marks a sample pixel as foreground
+    (same measure as `sub_threshold`)."""
+
+    bg_mask_dilate: int = 15
+    """Background estimation: side of the dilation of each sample's foreground mask."""
+
+    bg_iterations: int = 2
+    """Background estimation: rounds of (median, mask foreground, masked median)."""
+
+    bg_lead_seconds: float = 1.0
+    """Background estimation: length of the lead-in checked for an empty scene."""
+
+    bg_static_fraction: float = 0.003
+    """Background estimation: a lead-in frame is static when at most this fraction of its
+    pixels differ from the first frame (same measure and threshold as `bg_threshold`)."""
+
+    def __post_init__(self) -> None:
+        if self.skin_space not in SKIN_SPACES:
+            raise ValueError(f"skin_space must be one of {', '.join(SKIN_SPACES)}, got {self.skin_space!r}")
+        if not 0 <= self.rgb_rg_min <= self.rgb_rg_max <= 255:
+            raise ValueError(f"need 0 <= rgb_rg_min <= rgb_rg_max <= 255, got {self.rgb_rg_min}, {self.rgb_rg_max}")
+        for name in (
+            "sub_open",
+            "sub_close",
+            "edge_blur",
+            "background_skin_dilate",
+            "skin_open",
+            "sil_edge_trim",
+            "sil_close",
+            "feature_dilate",
+            "motion_dilate",
+            "arm_torso_erode",
+            "bg_mask_dilate",
+        ):
+            if getattr(self, name) < 0:
+                raise ValueError(f"{name} must be >= 0, got {getattr(self, name)}")
+        if self.edge_blur > 1 and self.edge_blur % 2 == 0:
+            raise ValueError(f"edge_blur must be odd, got {self.edge_blur}")
+        for name in (
+            "hand_gate",
+            "hand_length",
+            "head_length",
+            "min_shoulder_px",
+            "startup_shoulder_faces",
+            "bg_lead_seconds",
+        ):
+            if not getattr(self, name) > 0:
+                raise ValueError(f"{name} must be positive, got {getattr(self, name)}")
+        if self.bg_max_samples < 3:
+            raise ValueError(f"bg_max_samples must be >= 3, got {self.bg_max_samples}")
+
+    def replace(self, **changes: object) -> FeatureConfig:
+        """A copy with some fields changed (validated again)."""
+        return dataclasses.replace(self, **changes)  # type: ignore[arg-type]

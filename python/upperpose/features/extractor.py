@@ -1,0 +1,321 @@
+"""`FeatureExtractor`: the per-frame features of SPEC 4 against one background, frame after frame."""
+
+from __future__ import annotations
+
+import time
+
+import cv2
+import numpy as np
+import numpy.typing as npt
+
+from upperpose.features.background import Background, colour_change, square
+from upperpose.features.blobs import find_skin_blobs
+from upperpose.features.checks import Frame, Mask, check_frame, check_mask
+from upperpose.features.config import FeatureConfig
+from upperpose.features.frame import FrameFeatures
+from upperpose.features.packing import pack_rows
+from upperpose.features.parts import (
+    arm_silhouette,
+    motion_flags,
+    torso_region_from_labels,
+    torso_region_from_shoulders,
+)
+from upperpose.features.points import LEFT_SHOULDER, RIGHT_SHOULDER, locate_points
+from upperpose.features.skin import SkinWork, skin_mask
+
+OUTPUT_NAMES = (
+    "sub",
+    "edge",
+    "motion",
+    "skin0",
+    "skin",
+    "sil",
+    "edge_dilated",
+    "motion_dilated",
+    "arm_sil",
+)
+
+
+class _Clock:
+    """Accumulates CPU seconds of this thread per stage when enabled.
+
+    CPU time, not wall time, so that other processes on the machine do not inflate the breakdown.
+    """
+
+    def __init__(self, enabled: bool) -> None:
+        self.enabled = enabled
+        self.times: dict[str, float] = {}
+        self.last = time.thread_time() if enabled else 0.0
+
+    def lap(self, name: str) -> None:
+        if self.enabled:
+            now = time.thread_time()
+            self.times[name] = self.times.get(name, 0.0) + now - self.last
+            self.last = now
+
+
+class _Work:
+    """Scratch arrays reused from frame to frame (frame-sized allocations cost page faults)."""
+
+    def __init__(self, height: int, width: int) -> None:
+        shape, shape3 = (height, width), (height, width, 3)
+        self.change = (
+            np.empty(shape3, np.uint8),
+            np.empty(shape3, np.uint8),
+            np.empty(shape, np.uint8),
+        )
+        self.grey_raw = np.empty(shape, np.uint8)
+        self.greys = [np.empty(shape, np.uint8), np.empty(shape, np.uint8)]
+        self.int16 = [np.empty(shape, np.int16) for _ in range(5)]
+        self.tmp = np.empty(shape, np.uint8)
+        self.allowed = np.empty(shape, np.uint8)
+        self.skin = SkinWork(height, width)
+
+
+def _joints_array(joints: npt.ArrayLike | None) -> npt.NDArray[np.float64] | None:
+    if joints is None:
+        return None
+    array = np.asarray(joints, dtype=np.float64)
+    if array.shape != (7, 2):
+        raise ValueError(f"predicted_joints must be (7, 2) pixels in JOINT_NAMES order, got shape {array.shape}")
+    return array
+
+
+class FeatureExtractor:
+    """Computes `FrameFeatures` frame after frame against one background.
+
+    Keeps the previous frame's grey image for I_motion (the first frame has no motion) and
+    scratch arrays reused between frames.
+
+    Args:
+        background: the background model (its derived images are recomputed if it was made
+            with another configuration).
+        config: thresholds; the background's when None.
+        reuse_buffers: write every frame's feature images into the same arrays. Faster (no
+            frame-sized allocations), but a `FrameFeatures` is then only valid until the next
+            call: copy what you keep. The tracking loop consumes each frame at once.
+    """
+
+    def __init__(
+        self,
+        background: Background,
+        config: FeatureConfig | None = None,
+        *,
+        reuse_buffers: bool = False,
+    ) -> None:
+        self.config = config or background.config
+        self.background = background.with_config(self.config)
+        height, width = self.background.size
+        self._not_background_skin = cv2.bitwise_not(self.background.skin)
+        self._work = _Work(height, width)
+        self._has_previous = False
+        self._current = 0
+        self._dilate = square(self.config.feature_dilate)
+        self._trim = square(2 * self.config.sil_edge_trim + 1) if self.config.sil_edge_trim > 0 else None
+        self._reuse = reuse_buffers
+        self._outputs = self._new_outputs() if reuse_buffers else None
+
+    def _new_outputs(self) -> dict[str, Mask]:
+        height, width = self.background.size
+        return {name: np.empty((height, width), np.uint8) for name in OUTPUT_NAMES}
+
+    def reset(self) -> None:
+        """Forgets the previous frame (after a cut or a seek)."""
+        self._has_previous = False
+
+    def _grey(self, frame: Frame) -> Mask:
+        """Grey (blurred) image of `frame` into the next grey buffer; the other keeps the previous."""
+        self._current ^= 1
+        grey = self._work.greys[self._current]
+        blur = self.config.edge_blur
+        if blur >= 2:
+            cv2.cvtColor(frame, cv2.COLOR_BGR2GRAY, dst=self._work.grey_raw)
+            cv2.GaussianBlur(self._work.grey_raw, (blur, blur), 0, dst=grey)
+        else:
+            cv2.cvtColor(frame, cv2.COLOR_BGR2GRAY, dst=grey)
+        return grey
+
+    def prime(self, previous: Frame) -> None:
+        """Sets the previous frame for I_motion without computing its features.
+
+        Raises:
+            ValueError: see `__call__`.
+        """
+        self._grey(check_frame(previous, "previous", self.background.size))
+        self._has_previous = True
+
+    def __call__(
+        self,
+        frame: Frame,
+        predicted_joints: npt.ArrayLike | None = None,
+        part_labels: Mask | None = None,
+        torso_region: Mask | None = None,
+        *,
+        timed: bool = False,
+    ) -> FrameFeatures:
+        """The features of the next frame.
+
+        Args:
+            frame: `(H, W, 3)` uint8 BGR frame of the background's size.
+            predicted_joints: `(7, 2)` pixels, JOINT_NAMES order: the tracker's prediction for
+                this frame (or last frame's fit); None at start-up.
+            part_labels: `(H, W)` uint8 labels image of last frame's projected model
+                (`render_masks(...)["labels"]`), for the motion flags and, when no
+                `torso_region` is given, the torso region of the arm silhouette.
+            torso_region: `(H, W)` mask, nonzero inside torso, neck and head; if None it comes
+                from `part_labels`, else from the predicted shoulders, else no arm silhouette.
+            timed: record CPU seconds per stage in `FrameFeatures.timings`.
+
+        Raises:
+            ValueError: a frame that is empty, grayscale, not 3-channel uint8, or not the
+                background's size; masks or joints of the wrong shape.
+        """
+        cfg, bg, work = self.config, self.background, self._work
+        size = bg.size
+        frame = check_frame(frame, "frame", size)
+        joints = _joints_array(predicted_joints)
+        labels = check_mask(part_labels, "part_labels", size) if part_labels is not None else None
+        region = check_mask(torso_region, "torso_region", size) if torso_region is not None else None
+        out = self._outputs if self._reuse and self._outputs is not None else self._new_outputs()
+        clock = _Clock(timed)
+
+        grey = self._grey(frame)
+        clock.lap("grey")
+        # I_sub: per-channel change against the plate, opened (noise) then closed (holes).
+        colour_change(frame, bg.plate, cfg.sub_threshold, work.change, out=work.tmp)
+        sub = _open_close(work.tmp, cfg.sub_open, cfg.sub_close, work.allowed, out["sub"])
+        clock.lap("sub")
+        # I_edge: |d/dx frame - d/dx plate| + |d/dy frame - d/dy plate| > threshold (§3.4.2).
+        dx, dy, adx, ady, magnitude = work.int16
+        cv2.Sobel(grey, cv2.CV_16S, 1, 0, dst=dx, ksize=3)
+        cv2.Sobel(grey, cv2.CV_16S, 0, 1, dst=dy, ksize=3)
+        cv2.absdiff(dx, bg.dx, dst=adx)
+        cv2.absdiff(dy, bg.dy, dst=ady)
+        cv2.add(adx, ady, dst=magnitude)
+        edge = cv2.compare(magnitude, cfg.edge_threshold, cv2.CMP_GT, dst=out["edge"])
+        clock.lap("edge")
+        # I_motion: grey difference to the previous frame.
+        if self._has_previous:
+            cv2.absdiff(grey, work.greys[self._current ^ 1], dst=work.tmp)
+            motion = cv2.compare(work.tmp, cfg.motion_threshold, cv2.CMP_GT, dst=out["motion"])
+        else:
+            motion = out["motion"]
+            motion.fill(0)
+        self._has_previous = True
+        clock.lap("motion")
+        # I_skin = I_skin0 & (~background skin | I_motion | I_sub), opened.
+        skin0 = skin_mask(frame, cfg, work.skin, out["skin0"])
+        cv2.bitwise_or(self._not_background_skin, motion, dst=work.allowed)
+        cv2.bitwise_or(work.allowed, sub, dst=work.allowed)
+        cv2.bitwise_and(skin0, work.allowed, dst=work.tmp)
+        skin = _morph(work.tmp, cv2.MORPH_OPEN, cfg.skin_open, out["skin"])
+        clock.lap("skin")
+        # I_sil = I_sub | I_edge | I_skin (Eq. 3.4.1-1) without its outer edge-only rim, closed.
+        cv2.bitwise_or(sub, skin, dst=work.allowed)
+        cv2.bitwise_or(work.allowed, edge, dst=work.tmp)
+        if self._trim is not None:
+            cv2.erode(work.tmp, self._trim, dst=work.tmp)
+            cv2.bitwise_or(work.tmp, work.allowed, dst=work.tmp)
+        sil = _morph(work.tmp, cv2.MORPH_CLOSE, cfg.sil_close, out["sil"])
+        clock.lap("sil")
+        edge_dilated = _dilate(edge, self._dilate, out["edge_dilated"])
+        motion_dilated = _dilate(motion, self._dilate, out["motion_dilated"])
+        clock.lap("dilate")
+        blobs = find_skin_blobs(skin, edge, cfg)
+        clock.lap("blobs")
+        head, right_hand, left_hand = locate_points(blobs, joints, cfg)
+        clock.lap("points")
+        flags = motion_flags(motion, labels, cfg) if labels is not None else None
+        clock.lap("motion_flags")
+        if region is None and labels is not None:
+            region = torso_region_from_labels(labels, cfg)
+        elif region is None and joints is not None and np.all(np.isfinite(joints[[RIGHT_SHOULDER, LEFT_SHOULDER]])):
+            region = torso_region_from_shoulders(joints[RIGHT_SHOULDER], joints[LEFT_SHOULDER], size)
+        elif region is not None:
+            region = cv2.compare(region, 0, cv2.CMP_GT)
+        arm = arm_silhouette(sil, region, out["arm_sil"]) if region is not None else None
+        clock.lap("arm_sil")
+        sil_bits, edge_bits, motion_bits = (
+            pack_rows(sil),
+            pack_rows(edge_dilated),
+            pack_rows(motion_dilated),
+        )
+        arm_bits = pack_rows(arm) if arm is not None else None
+        clock.lap("pack")
+        return FrameFeatures(
+            sub=sub,
+            edge=edge,
+            motion=motion,
+            skin0=skin0,
+            skin=skin,
+            sil=sil,
+            edge_dilated=edge_dilated,
+            motion_dilated=motion_dilated,
+            arm_sil=arm,
+            sil_bits=sil_bits,
+            edge_bits=edge_bits,
+            motion_bits=motion_bits,
+            arm_bits=arm_bits,
+            blobs=blobs,
+            head=head,
+            right_hand=right_hand,
+            left_hand=left_hand,
+            motion_flags=flags,
+            timings=clock.times,
+        )
+
+
+def _morph(image: Mask, op: int, size: int, out: Mask) -> Mask:
+    """`op` with a `size` square into `out` (a copy when size < 2)."""
+    kernel = square(size)
+    if kernel is None:
+        np.copyto(out, image)
+        return out
+    return cv2.morphologyEx(image, op, kernel, dst=out)
+
+
+def _open_close(image: Mask, open_size: int, close_size: int, scratch: Mask, out: Mask) -> Mask:
+    """Opening then closing of `image` into `out`, via `scratch`."""
+    return _morph(
+        _morph(image, cv2.MORPH_OPEN, open_size, scratch),
+        cv2.MORPH_CLOSE,
+        close_size,
+        out,
+    )
+
+
+def _dilate(image: Mask, kernel: npt.NDArray[np.uint8] | None, out: Mask) -> Mask:
+    if kernel is None:
+        np.copyto(out, image)
+        return out
+    return cv2.dilate(image, kernel, dst=out)
+
+
+def compute_features(
+    frame: Frame,
+    background: Background,
+    previous: Frame | None = None,
+    predicted_joints: npt.ArrayLike | None = None,
+    part_labels: Mask | None = None,
+    config: FeatureConfig | None = None,
+) -> FrameFeatures:
+    """The features of one frame given the previous one (a one-off `FeatureExtractor` call).
+
+    Args:
+        frame: `(H, W, 3)` uint8 BGR.
+        background: the background model.
+        previous: the previous frame for I_motion, or None (no motion).
+        predicted_joints: `(7, 2)` predicted joints in pixels, or None at start-up.
+        part_labels: last frame's projected part labels, or None.
+        config: thresholds; the background's when None.
+
+    Raises:
+        ValueError: see `FeatureExtractor.__call__`.
+    """
+    extractor = FeatureExtractor(background, config)
+    if previous is not None:
+        extractor.prime(previous)
+    return extractor(frame, predicted_joints, part_labels)
+
+
+__all__ = ["FeatureExtractor", "compute_features"]

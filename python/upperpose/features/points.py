@@ -1,0 +1,195 @@
+"""Head and hand points from the skin blobs (SPEC 4).
+
+With a prediction (the tracker's joints from the previous frame) each of head, right hand and
+left hand is matched to a distinct blob within a gate around its predicted position; a part
+whose only blob within the gate is taken by another part shares it: both are reported merged
+and carry no measured point. A hand's point is the centroid of the far end of its blob along
+the forearm (predicted elbow to predicted hand), one hand length long, so that a blob that
+covers a bare forearm still gives the hand. The head's point is the centroid of the top of its
+blob along the neck-to-head direction, one head length long (drops a bare neck).
+
+Without a prediction (start-up) the three largest blobs are taken: the topmost is the head,
+the others hands by their side of it (image left = the subject's right hand).
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import numpy.typing as npt
+
+from upperpose.features.blobs import SkinBlob
+from upperpose.features.config import FeatureConfig
+
+POINT_NAMES = ("head", "right_hand", "left_hand")
+# Indices into JOINT_NAMES.
+HEAD, RIGHT_SHOULDER, LEFT_SHOULDER, RIGHT_ELBOW, LEFT_ELBOW, RIGHT_HAND, LEFT_HAND = range(7)
+
+
+@dataclass(frozen=True)
+class SkinPoint:
+    """A head or hand located on a skin blob.
+
+    Attributes:
+        xy: (x, y) in pixels. For a merged point this is the merged blob's centroid, a hint
+            for drawing only, not a measurement of the part.
+        merged: the blob also holds another part (hand on face, hands together); the cost
+            must leave a merged point out.
+        blob: index of the blob in `FrameFeatures.blobs`.
+    """
+
+    xy: tuple[float, float]
+    merged: bool
+    blob: int
+
+
+def unit(vector: npt.NDArray[np.float64]) -> npt.NDArray[np.float64] | None:
+    """`vector` scaled to length one, or None when it is (nearly) zero or not finite."""
+    norm = float(np.hypot(vector[0], vector[1]))
+    return vector / norm if np.isfinite(norm) and norm > 1e-6 else None
+
+
+def far_end(blob: SkinBlob, direction: npt.NDArray[np.float64], length: float) -> tuple[float, float]:
+    """Centroid of the blob's pixels within `length` pixels of its far end along `direction`."""
+    t = blob.xs * direction[0] + blob.ys * direction[1]
+    keep = t >= t.max() - length
+    return float(blob.xs[keep].mean()), float(blob.ys[keep].mean())
+
+
+def principal_direction(blob: SkinBlob) -> npt.NDArray[np.float64] | None:
+    """The blob's long axis when it is clearly elongated (eigenvalue ratio > 2.25), else None."""
+    if blob.area < 3:
+        return None
+    cov = np.cov(np.vstack([blob.xs, blob.ys]).astype(np.float64))
+    values, vectors = np.linalg.eigh(cov)
+    if values[0] <= 0 or values[1] / values[0] > 2.25:
+        return np.asarray(vectors[:, 1], dtype=np.float64)
+    return None
+
+
+def assign(
+    blobs: list[SkinBlob], targets: list[npt.NDArray[np.float64] | None], gate: float
+) -> tuple[list[int | None], list[bool]]:
+    """Matches each target position to a distinct blob within `gate`, minimising total distance.
+
+    A target left without a blob while some blob is within its gate shares the nearest such
+    blob with the target that holds it: both are marked merged.
+
+    Returns:
+        (blob index or None per target, merged flag per target).
+    """
+    candidates: list[list[tuple[int, float]]] = []
+    for target in targets:
+        near = []
+        if target is not None and np.all(np.isfinite(target)):
+            for i, blob in enumerate(blobs):
+                d = blob.distance_to(target)
+                if d <= gate:
+                    near.append((i, d))
+        candidates.append(sorted(near, key=lambda c: c[1]))
+    best: tuple[float, tuple[int | None, ...]] = (math.inf, (None,) * len(targets))
+    options = [[(None, 2.0 * gate)] + c for c in candidates]
+    for combo in itertools.product(*options):
+        chosen = [c[0] for c in combo if c[0] is not None]
+        if len(chosen) != len(set(chosen)):
+            continue
+        cost = sum(c[1] for c in combo)
+        if cost < best[0]:
+            best = (cost, tuple(c[0] for c in combo))
+    matched: list[int | None] = list(best[1])
+    merged = [False] * len(targets)
+    for k, index in enumerate(best[1]):
+        if index is None and candidates[k]:
+            shared = candidates[k][0][0]
+            matched[k] = shared
+            merged[k] = True
+            for j, other in enumerate(best[1]):
+                if other == shared:
+                    merged[j] = True
+    return matched, merged
+
+
+def points_with_prediction(
+    blobs: list[SkinBlob], joints: npt.NDArray[np.float64], config: FeatureConfig
+) -> list[SkinPoint | None]:
+    """Head, right hand and left hand from the blobs, given predicted 2D joints (JOINT_NAMES order)."""
+    shoulder_px = max(
+        float(np.hypot(*(joints[RIGHT_SHOULDER] - joints[LEFT_SHOULDER]))),
+        config.min_shoulder_px,
+    )
+    if not np.isfinite(shoulder_px):
+        shoulder_px = config.min_shoulder_px
+    targets = [joints[HEAD], joints[RIGHT_HAND], joints[LEFT_HAND]]
+    matched, merged = assign(blobs, list(targets), config.hand_gate * shoulder_px)
+    neck = 0.5 * (joints[RIGHT_SHOULDER] + joints[LEFT_SHOULDER])
+    directions = [
+        unit(joints[HEAD] - neck),
+        unit(joints[RIGHT_HAND] - joints[RIGHT_ELBOW]),
+        unit(joints[LEFT_HAND] - joints[LEFT_ELBOW]),
+    ]
+    lengths = [
+        config.head_length * shoulder_px,
+        config.hand_length * shoulder_px,
+        config.hand_length * shoulder_px,
+    ]
+    points: list[SkinPoint | None] = []
+    for k in range(3):
+        index = matched[k]
+        if index is None:
+            points.append(None)
+            continue
+        blob = blobs[index]
+        direction = directions[k]
+        if merged[k] or direction is None:
+            xy = blob.centroid
+        else:
+            xy = far_end(blob, direction, lengths[k])
+        points.append(SkinPoint(xy, merged[k], index))
+    return points
+
+
+def points_at_startup(blobs: list[SkinBlob], config: FeatureConfig) -> list[SkinPoint | None]:
+    """Head and hands from the three largest blobs, without a prediction (§3.3.2)."""
+    largest = list(range(min(3, len(blobs))))
+    if not largest:
+        return [None, None, None]
+    head = min(largest, key=lambda i: blobs[i].centroid[1])
+    head_blob = blobs[head]
+    shoulder_px = max(config.startup_shoulder_faces * head_blob.bbox[2], config.min_shoulder_px)
+    head_xy = far_end(head_blob, np.array([0.0, -1.0]), config.head_length * shoulder_px)
+    points: list[SkinPoint | None] = [SkinPoint(head_xy, False, head), None, None]
+    hands = sorted((i for i in largest if i != head), key=lambda i: blobs[i].centroid[0])
+    if len(hands) == 1:
+        slot = 1 if blobs[hands[0]].centroid[0] < head_blob.centroid[0] else 2
+        slots = {slot: hands[0]}
+    else:
+        slots = {1: hands[0], 2: hands[1]} if hands else {}
+    for slot, index in slots.items():
+        blob = blobs[index]
+        outward = unit(np.subtract(blob.centroid, head_blob.centroid))
+        axis = principal_direction(blob)
+        if axis is not None and outward is not None:
+            direction: npt.NDArray[np.float64] | None = axis if float(axis @ outward) >= 0 else -axis
+        else:
+            direction = outward
+        xy = far_end(blob, direction, config.hand_length * shoulder_px) if direction is not None else blob.centroid
+        points[slot] = SkinPoint(xy, False, index)
+    return points
+
+
+def locate_points(
+    blobs: list[SkinBlob], joints: npt.NDArray[np.float64] | None, config: FeatureConfig
+) -> list[SkinPoint | None]:
+    """Head, right hand and left hand (POINT_NAMES order); None where a part has no blob.
+
+    Args:
+        blobs: valid skin blobs, largest first.
+        joints: `(7, 2)` predicted joints in pixels (JOINT_NAMES order), or None at start-up.
+        config: gates and lengths.
+    """
+    if joints is None:
+        return points_at_startup(blobs, config)
+    return points_with_prediction(blobs, joints, config)

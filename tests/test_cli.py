@@ -1,0 +1,72 @@
+"""The command line: in-process runs and one real subprocess."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+import cv2
+import pytest
+
+import upperpose
+from upperpose.cli import main
+
+
+def test_version_smoke(capsys: pytest.CaptureFixture[str]) -> None:
+    with pytest.raises(SystemExit) as exc:
+        main(["--version"])
+    assert exc.value.code == 0
+    assert capsys.readouterr().out.strip() == f"upperpose {upperpose.__version__}"
+
+
+def test_render_writes_an_image(tmp_path: Path) -> None:
+    out = tmp_path / "model.png"
+    assert main(["render", "-o", str(out), "--angle", "right_z_up=1.2", "--width", "320", "--height", "240"]) == 0
+    image = cv2.imread(str(out))
+    assert image.shape == (240, 320, 3)
+    assert (image != 70).any()  # something was drawn on the plain background
+    assert [p.name for p in tmp_path.iterdir()] == ["model.png"]  # no temporary file left
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["render", "--angle", "elbow=1"], "unknown angle 'elbow'"),
+        (["render", "--angle", "right_z_up"], "--angle takes NAME=RAD"),
+        (["render", "--depth", "-1"], "--depth must be positive"),
+        (["render", "-o", "/nonexistent-folder/x.png"], "does not exist"),
+    ],
+)
+def test_bad_input_is_one_line_and_exit_1(argv: list[str], message: str, capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(argv) == 1
+    err = capsys.readouterr().err
+    assert message in err and err.count("\n") == 1 and "Traceback" not in err
+
+
+def test_usage_error_exits_2() -> None:
+    with pytest.raises(SystemExit) as exc:
+        main(["render", "--width", "wide"])
+    assert exc.value.code == 2
+
+
+def test_installed_command_runs_in_a_subprocess(tmp_path: Path) -> None:
+    out = tmp_path / "sheet.png"
+    argv = [sys.executable, "-m", "upperpose", "render", "--sheet", "-o", str(out)]
+    proc = subprocess.run(argv, capture_output=True, text=True, check=False)
+    assert proc.returncode == 0, proc.stderr
+    assert cv2.imread(str(out)).shape == (960, 2560, 3)
+
+
+def test_written_files_get_the_usual_permissions(tmp_path: Path) -> None:
+    out = tmp_path / "model.png"
+    assert main(["render", "-o", str(out), "--width", "64", "--height", "48"]) == 0
+    assert out.stat().st_mode & 0o777 == 0o666 & ~_current_umask()
+
+
+def _current_umask() -> int:
+    import os
+
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return mask
