@@ -2,8 +2,9 @@
 
 #![allow(clippy::panic, clippy::unwrap_used, clippy::expect_used)] // setup failures in a bench should stop it loudly
 
+use upperpose_core::image::SkinPoints;
 use upperpose_core::nalgebra::Vector3;
-use upperpose_core::{skeleton_from_pose, BodyModel, Camera, Pose, Side, Skeleton};
+use upperpose_core::{skeleton_from_pose, BitMask, BodyModel, BodyRaster, Camera, Joint, Pose, Roi, Side, Skeleton};
 
 /// A 640x480 scene: default body 2.2 m in front of the default camera (focal = 640 px), the
 /// right arm raised and bent, the left out to the side. The arm spans about 150 px.
@@ -41,5 +42,34 @@ impl Scene {
 impl Default for Scene {
     fn default() -> Self {
         Self::new()
+    }
+}
+
+/// Ideal features of the scene: the model's own silhouette, its contours as edges (not
+/// dilated), no motion, the projected head and hands as skin points.
+pub struct Features {
+    pub sil: Vec<u64>,
+    pub edge: Vec<u64>,
+    pub motion: Vec<u64>,
+    pub skin: SkinPoints,
+}
+
+/// Renders [`Features`] of a scene at 640x480.
+pub fn ideal_features(s: &Scene) -> Features {
+    let skel = s.skeleton();
+    let raster = BodyRaster::new(&skel, &s.body, &s.camera, Roi::full(640, 480));
+    let mut edge = BitMask::new(Roi::full(640, 480));
+    for c in raster.contours() {
+        edge.union(&c);
+    }
+    let joints = skel.joints();
+    let point = |j: Joint| s.camera.project(&joints[j as usize]);
+    Features {
+        sil: raster.union().words,
+        motion: vec![0; edge.words.len()],
+        edge: edge.words,
+        skin: SkinPoints {
+            points: [point(Joint::Head), point(Joint::RightHand), point(Joint::LeftHand)],
+        },
     }
 }

@@ -10,10 +10,13 @@ __all__ = [
     "ANGLE_NAMES",
     "BodyModel",
     "Camera",
+    "FrameFit",
+    "SearchConfig",
     "JOINT_NAMES",
     "PART_NAMES",
     "UpperposeError",
     "__version__",
+    "fit_frame_bits",
     "forward_kinematics",
     "joint_limits",
     "render_masks",
@@ -121,3 +124,86 @@ def render_masks(
     height: int,
     roi: tuple[int, int, int, int] | None = None,
 ) -> dict[str, npt.NDArray[np.uint8]]: ...
+
+@final
+class SearchConfig:
+    def __new__(
+        cls,
+        *,
+        particles: int | None = None,
+        iterations: int | None = None,
+        c0: float | None = None,
+        annealing: bool | None = None,
+        max_speed: float | None = None,
+        weights: dict[str, float] | None = None,
+        limits: str = "anatomical",
+        non_penetration: bool = True,
+        threads: int | None = None,
+        seed: int = 0,
+        root_window: float | None = None,
+        initial_root_window: float | None = None,
+        row_steps: tuple[int, int, int] | None = None,
+    ) -> Self: ...
+    @property
+    def particles(self) -> int: ...
+    @property
+    def iterations(self) -> int: ...
+    @property
+    def c0(self) -> float: ...
+    @property
+    def annealing(self) -> bool: ...
+    @property
+    def max_speed(self) -> float: ...
+    @property
+    def limits(self) -> str: ...
+    @property
+    def non_penetration(self) -> bool: ...
+    @property
+    def threads(self) -> int | None: ...
+    @property
+    def seed(self) -> int: ...
+    @property
+    def root_window(self) -> float: ...
+    @property
+    def initial_root_window(self) -> float: ...
+    @property
+    def row_steps(self) -> tuple[int, int, int]: ...
+    @property
+    def weights(self) -> dict[str, float]: ...
+
+@final
+class FrameFit:
+    @property
+    def pose(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def root(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def joints_3d(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def joints_2d(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def cost(self) -> float: ...
+    @property
+    def stage_costs(self) -> dict[str, float]: ...
+    @property
+    def terms(self) -> dict[str, dict[str, float]]: ...
+    @property
+    def evaluations(self) -> int: ...
+
+def fit_frame_bits(
+    sil: npt.NDArray[np.uint64],
+    edge: npt.NDArray[np.uint64],
+    motion: npt.NDArray[np.uint64],
+    points: npt.NDArray[np.float64],
+    width: int,
+    prediction: npt.NDArray[np.float64],
+    root: npt.NDArray[np.float64],
+    body: BodyModel,
+    camera: Camera,
+    mode: str,
+    window_scale: float,
+    frame_interval: float,
+    search: list[str],
+    frame_index: int,
+    config: SearchConfig,
+) -> FrameFit: ...

@@ -20,6 +20,8 @@ pub struct BodyModel {
     pub neck_length: f64,
     pub neck_radius: f64,
     /// Torso elliptic cylinder: top above the root, bottom below it, half width, half depth.
+    /// The bottom reaches the hips: in a camera's view the body goes on below the chest, often
+    /// to the frame's edge, and a shorter torso leaves that silhouette unexplained.
     pub torso_top: f64,
     pub torso_bottom: f64,
     pub torso_half_width: f64,
@@ -43,7 +45,7 @@ impl Default for BodyModel {
             neck_length: 0.13,
             neck_radius: 0.055,
             torso_top: 0.23,
-            torso_bottom: 0.33,
+            torso_bottom: 0.5,
             torso_half_width: 0.16,
             torso_half_depth: 0.11,
             upper_arm_length: 0.29,

@@ -9,11 +9,14 @@
 pub mod body;
 pub mod camera;
 pub mod error;
+pub mod image;
 pub mod kinematics;
 pub mod outline;
+pub mod parallel;
 pub mod pose;
 pub mod raster;
 pub mod render;
+pub mod search;
 pub mod solid;
 
 pub use body::BodyModel;

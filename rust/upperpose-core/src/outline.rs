@@ -49,6 +49,24 @@ pub struct Outline {
     pub quad: Option<[Vector2<f64>; 4]>,
 }
 
+impl Outline {
+    /// The outline's bounding box `(x0, y0, x1, y1)` in pixels, or `None` if it is empty.
+    pub fn bounds(&self) -> Option<(f64, f64, f64, f64)> {
+        let mut b = (f64::INFINITY, f64::INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY);
+        let mut grow = |x0: f64, y0: f64, x1: f64, y1: f64| {
+            b = (b.0.min(x0), b.1.min(y0), b.2.max(x1), b.3.max(y1));
+        };
+        for e in self.ellipses.iter().flatten() {
+            let (hx, hy) = (e.sxx.max(0.0).sqrt(), e.syy.max(0.0).sqrt());
+            grow(e.cx - hx, e.cy - hy, e.cx + hx, e.cy + hy);
+        }
+        for v in self.quad.iter().flatten() {
+            grow(v.x, v.y, v.x, v.y);
+        }
+        (b.0 <= b.2 && b.1 <= b.3).then_some(b)
+    }
+}
+
 /// The image ellipse of an ellipsoid or disc, or `None` when a perspective camera cannot see
 /// all of it (some of it lies nearer than [`NEAR_PLANE`]).
 pub fn ellipse_of_ellipsoid(e: &Ellipsoid, camera: &Camera) -> Option<Ellipse> {

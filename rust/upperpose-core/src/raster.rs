@@ -84,19 +84,33 @@ impl Span {
     }
 }
 
-/// One span per row for rows `y0..y0 + spans.len()`, in image coordinates.
-#[derive(Debug, Clone, Default)]
+/// One span per sampled row: rows `y0, y0 + step, ...` (`spans.len()` of them), in image
+/// coordinates. `step` is 1 for a full rasterisation.
+#[derive(Debug, Clone)]
 pub struct RowSpans {
     pub y0: i32,
+    pub step: i32,
     pub spans: Vec<Span>,
     /// Scratch: the exact x-interval of each row, kept to reuse its allocation.
     lo: Vec<f64>,
     hi: Vec<f64>,
 }
 
+impl Default for RowSpans {
+    fn default() -> Self {
+        RowSpans {
+            y0: 0,
+            step: 1,
+            spans: Vec::new(),
+            lo: Vec::new(),
+            hi: Vec::new(),
+        }
+    }
+}
+
 impl PartialEq for RowSpans {
     fn eq(&self, other: &Self) -> bool {
-        self.y0 == other.y0 && self.spans == other.spans
+        self.y0 == other.y0 && self.step == other.step && self.spans == other.spans
     }
 }
 
@@ -106,12 +120,20 @@ impl RowSpans {
         self.spans.iter().map(|s| u64::from(s.len())).sum()
     }
 
-    /// The span of image row `y` (empty outside the rows held).
+    /// The span of image row `y` (empty outside the rows held or between sampled rows).
+    #[inline]
     pub fn row(&self, y: i32) -> Span {
-        usize::try_from(y - self.y0)
-            .ok()
-            .and_then(|i| self.spans.get(i).copied())
-            .unwrap_or(Span::EMPTY)
+        let d = y - self.y0;
+        if d < 0 || d % self.step != 0 {
+            return Span::EMPTY;
+        }
+        self.spans.get((d / self.step) as usize).copied().unwrap_or(Span::EMPTY)
+    }
+
+    /// The image row of entry `i`.
+    #[inline]
+    pub fn y(&self, i: usize) -> i32 {
+        self.y0 + i as i32 * self.step
     }
 }
 
@@ -135,16 +157,14 @@ fn fmax(a: f64, b: f64) -> f64 {
     }
 }
 
-/// The part of `rows` inside `first..end`, as indices into a buffer starting at `first`.
+/// The entries of a buffer holding rows `first, first + step, ...` (`n` of them) that lie
+/// in `rows`.
 #[inline]
-fn overlap(rows: (i32, i32), first: i32, end: i32) -> std::ops::Range<usize> {
-    let a = rows.0.max(first);
-    let b = rows.1.min(end);
-    if a >= b {
-        0..0
-    } else {
-        (a - first) as usize..(b - first) as usize
-    }
+fn overlap(rows: (i32, i32), first: i32, step: i32, n: usize) -> std::ops::Range<usize> {
+    let up = |v: i32| if v <= 0 { 0 } else { ((v + step - 1) / step) as usize };
+    let a = up(rows.0 - first).min(n);
+    let b = up(rows.1 - first).min(n);
+    a..b.max(a)
 }
 
 /// Row-span evaluation of one ellipse, with its per-row constants precomputed.
@@ -187,11 +207,11 @@ impl EllipseRows {
         (mid - half, mid + half)
     }
 
-    /// Widens the intervals of consecutive rows starting at height `y0` to hold the ellipse.
+    /// Widens the intervals of rows `y0, y0 + step, ...` to hold the ellipse.
     #[inline]
-    fn widen(&self, y0: i32, lo: &mut [f64], hi: &mut [f64]) {
+    fn widen(&self, y0: i32, step: i32, lo: &mut [f64], hi: &mut [f64]) {
         for (i, (l, h)) in lo.iter_mut().zip(hi.iter_mut()).enumerate() {
-            let (a, b) = self.at(f64::from(y0) + i as f64);
+            let (a, b) = self.at(f64::from(y0) + (i as f64) * f64::from(step));
             *l = fmin(*l, a);
             *h = fmax(*h, b);
         }
@@ -294,11 +314,11 @@ impl QuadRows {
         (lo, hi)
     }
 
-    /// Sets the intervals of consecutive rows starting at height `y0` to the quadrilateral's.
+    /// Sets the intervals of rows `y0, y0 + step, ...` to the quadrilateral's.
     #[inline]
-    fn set(&self, y0: i32, lo: &mut [f64], hi: &mut [f64]) {
+    fn set(&self, y0: i32, step: i32, lo: &mut [f64], hi: &mut [f64]) {
         for (i, (l, h)) in lo.iter_mut().zip(hi.iter_mut()).enumerate() {
-            (*l, *h) = self.at(f64::from(y0) + i as f64);
+            (*l, *h) = self.at(f64::from(y0) + (i as f64) * f64::from(step));
         }
     }
 }
@@ -426,28 +446,29 @@ impl Scanner {
     /// Rasterises into `out`, reusing its allocation. Each piece fills the rows it covers in
     /// one tight loop (the compiler vectorises them), then the intervals become spans.
     pub fn spans_into(&self, roi: &Roi, out: &mut RowSpans) {
+        self.sampled_spans_into(roi, 1, out);
+    }
+
+    /// Rasterises only the rows that are multiples of `step` (so that every outline sampled
+    /// with the same step shares rows), into `out`.
+    pub fn sampled_spans_into(&self, roi: &Roi, step: i32, out: &mut RowSpans) {
+        let step = step.max(1);
         let (first, end) = self.row_range(roi);
-        let n = (end - first) as usize;
+        let first = first + (step - first.rem_euclid(step)) % step;
+        let n = if end > first { ((end - first + step - 1) / step) as usize } else { 0 };
         out.y0 = first;
+        out.step = step;
         out.lo.clear();
         out.lo.resize(n, f64::INFINITY);
         out.hi.clear();
         out.hi.resize(n, f64::NEG_INFINITY);
         if let Some(q) = &self.quad {
-            let r = overlap(q.rows, first, end);
-            q.set(
-                first + r.start as i32,
-                &mut out.lo[r.clone()],
-                &mut out.hi[r],
-            );
+            let r = overlap(q.rows, first, step, n);
+            q.set(first + r.start as i32 * step, step, &mut out.lo[r.clone()], &mut out.hi[r]);
         }
         for e in self.ellipses.iter().flatten() {
-            let r = overlap(e.rows, first, end);
-            e.widen(
-                first + r.start as i32,
-                &mut out.lo[r.clone()],
-                &mut out.hi[r],
-            );
+            let r = overlap(e.rows, first, step, n);
+            e.widen(first + r.start as i32 * step, step, &mut out.lo[r.clone()], &mut out.hi[r]);
         }
         out.spans.clear();
         out.spans.extend(
@@ -517,7 +538,7 @@ impl BitMask {
             if span.is_empty() {
                 continue;
             }
-            let r = (spans.y0 + i as i32 - self.roi.y) as usize;
+            let r = (spans.y(i) - self.roi.y) as usize;
             let row = &mut self.words[r * self.stride..(r + 1) * self.stride];
             set_run(
                 row,

@@ -6,6 +6,7 @@ mod errors;
 mod kinematics;
 mod model;
 mod render;
+mod search;
 
 use pyo3::prelude::*;
 use upperpose_core::{DOF_NAMES, JOINT_NAMES, PART_NAMES};
@@ -27,5 +28,8 @@ fn _upperpose(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(kinematics::solids_py, m)?)?;
     m.add_function(wrap_pyfunction!(kinematics::joint_limits_py, m)?)?;
     m.add_function(wrap_pyfunction!(render::render_masks_py, m)?)?;
+    m.add_class::<search::PySearchConfig>()?;
+    m.add_class::<search::PyFrameFit>()?;
+    m.add_function(wrap_pyfunction!(search::fit_frame_bits_py, m)?)?;
     Ok(())
 }

@@ -1,0 +1,99 @@
+"""Fitting one frame: the hierarchical annealed particle swarm of the Rust core (SPEC 5).
+
+See docs/cost.md for the cost terms and docs/search.md for the search.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from typing import Protocol
+
+import numpy as np
+import numpy.typing as npt
+
+from upperpose import _upperpose
+from upperpose._upperpose import BodyModel, Camera, FrameFit, SearchConfig
+from upperpose.model import PoseLike, as_float_array, pose_array
+
+STAGES = ("torso", "right_arm", "left_arm")
+
+
+class BitFeatures(Protocol):
+    """What the search reads from a frame's features (`upperpose.features.FrameFeatures`)."""
+
+    sil_bits: npt.NDArray[np.uint64]
+    edge_bits: npt.NDArray[np.uint64]
+    motion_bits: npt.NDArray[np.uint64]
+
+    def points_array(self) -> npt.NDArray[np.float64]:
+        """`(3, 2)` head, right-hand and left-hand points in pixels; NaN when absent or merged."""
+        ...
+
+
+def fit_frame(
+    features: BitFeatures,
+    prediction: PoseLike,
+    root: npt.ArrayLike,
+    body: BodyModel,
+    camera: Camera,
+    *,
+    width: int | None = None,
+    mode: str = "trajectory",
+    window_scale: float = 1.0,
+    frame_interval: float = 1.0 / 30.0,
+    search: Iterable[str] = STAGES,
+    frame_index: int = 0,
+    config: SearchConfig | None = None,
+) -> FrameFit:
+    """Fits the body model to one frame: torso, then right arm, then left arm.
+
+    Args:
+        features: the frame's features (bit planes and skin points).
+        prediction: the predicted pose; centre of the trajectory windows and pose of every
+            stage not searched.
+        root: `(3,)` root position in metres estimated for this frame.
+        body: body dimensions.
+        camera: the camera.
+        width: image width in pixels; defaults to the features' (`features.size` is
+            (height, width)), else 64 x words per row.
+        mode: "trajectory" (windows around the prediction) or "initial" (anatomical ranges).
+        window_scale: multiplies the trajectory windows (> 1 after a poor fit).
+        frame_interval: seconds since the previous frame; windows scale with it.
+        search: the stages to search (from the motion flags); others keep the prediction.
+        frame_index: keys the random streams: the same seed, frame and inputs give the same fit
+            whatever the thread count.
+        config: search settings; defaults when None.
+
+    Returns:
+        The `FrameFit` (pose, root, joints, cost and its terms, evaluations).
+
+    Raises:
+        ValueError: inconsistent shapes, bad values or unknown stage names.
+    """
+    if width is None:
+        size = getattr(features, "size", None)
+        width = int(size[1]) if size is not None else 64 * int(np.shape(features.sil_bits)[1])
+    # NaN marks an absent or merged point, so only the shape is checked here.
+    points = np.ascontiguousarray(features.points_array(), dtype=np.float64)
+    if points.shape != (3, 2):
+        raise ValueError(f"features.points_array() must have shape (3, 2), got {points.shape}")
+    return _upperpose.fit_frame_bits(
+        np.ascontiguousarray(features.sil_bits, dtype=np.uint64),
+        np.ascontiguousarray(features.edge_bits, dtype=np.uint64),
+        np.ascontiguousarray(features.motion_bits, dtype=np.uint64),
+        points,
+        int(width),
+        pose_array(prediction),
+        as_float_array(root, "root", (3,)),
+        body,
+        camera,
+        mode,
+        float(window_scale),
+        float(frame_interval),
+        list(search),
+        int(frame_index),
+        config or SearchConfig(),
+    )
+
+
+__all__ = ["STAGES", "FrameFit", "SearchConfig", "fit_frame"]

@@ -1,0 +1,84 @@
+//! Borrowed views of one frame's features, in the bit-packed layout of [`crate::raster::BitMask`]:
+//! `u64` words, least significant bit = leftmost pixel, `ceil(W / 64)` words per row.
+
+use crate::error::{CoreError, Result};
+use nalgebra::Vector2;
+
+/// One binary feature image.
+#[derive(Debug, Clone, Copy)]
+pub struct BitPlane<'a> {
+    pub words: &'a [u64],
+    pub stride: usize,
+}
+
+impl BitPlane<'_> {
+    /// Whether pixel `(x, y)` is set (no bounds check beyond the slice's).
+    pub fn get(&self, x: usize, y: usize) -> bool {
+        self.words[y * self.stride + x / 64] >> (x % 64) & 1 == 1
+    }
+}
+
+/// The skin points the cost compares with the model's joints.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct SkinPoints {
+    /// Head, right hand, left hand in pixels; `None` when absent or merged with another blob.
+    pub points: [Option<Vector2<f64>>; 3],
+}
+
+/// The features the search matches against.
+#[derive(Debug, Clone, Copy)]
+pub struct FrameView<'a> {
+    pub width: u32,
+    pub height: u32,
+    /// I_sil: the silhouette.
+    pub sil: BitPlane<'a>,
+    /// I_edge, dilated so a one-pixel offset still counts.
+    pub edge: BitPlane<'a>,
+    /// I_motion, dilated likewise.
+    pub motion: BitPlane<'a>,
+    pub skin: SkinPoints,
+}
+
+/// Words per row of a bit-packed image `width` pixels wide.
+pub fn stride_for(width: u32) -> usize {
+    (width as usize).div_ceil(64)
+}
+
+impl<'a> FrameView<'a> {
+    /// Checks that every plane holds `height` rows of `ceil(width / 64)` words.
+    pub fn new(
+        width: u32,
+        height: u32,
+        sil: &'a [u64],
+        edge: &'a [u64],
+        motion: &'a [u64],
+        skin: SkinPoints,
+    ) -> Result<Self> {
+        if width == 0 || height == 0 {
+            return Err(CoreError::InvalidShape {
+                name: "features",
+                expected: "a non-empty image".into(),
+                got: format!("{width}x{height}"),
+            });
+        }
+        let stride = stride_for(width);
+        let want = stride * height as usize;
+        for (name, plane) in [("sil", sil), ("edge", edge), ("motion", motion)] {
+            if plane.len() != want {
+                return Err(CoreError::InvalidShape {
+                    name,
+                    expected: format!("({height}, {stride}) words for a {width}x{height} image"),
+                    got: format!("{} words", plane.len()),
+                });
+            }
+        }
+        Ok(FrameView {
+            width,
+            height,
+            sil: BitPlane { words: sil, stride },
+            edge: BitPlane { words: edge, stride },
+            motion: BitPlane { words: motion, stride },
+            skin,
+        })
+    }
+}

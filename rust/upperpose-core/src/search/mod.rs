@@ -1,0 +1,405 @@
+//! The per-frame fit (thesis Fig. 3.4.8-2; SPEC 5): torso first (with a small refinement of
+//! the root's position), then the right arm, then the left arm, each by an annealed particle
+//! swarm over its own angles inside one fixed region of the image.
+
+pub mod apso;
+pub mod constraints;
+pub mod cost;
+pub mod rng;
+
+use crate::body::BodyModel;
+use crate::camera::Camera;
+use crate::error::{finite, positive, CoreError, Result};
+use crate::image::FrameView;
+use crate::kinematics::{skeleton_from_pose, Joint, Side, Skeleton};
+use crate::outline::{outline_of_solid, Outline};
+use crate::parallel;
+use crate::pose::{Dof, DofRange, JointLimits, Pose};
+use crate::raster::{BitMask, Roi, Scanner};
+use crate::solid::{solid_of_part, Part};
+use apso::{minimise, SwarmConfig};
+use cost::{evaluate, CostTerms, CostWeights, Scratch, SkinPair, StageRegion};
+use nalgebra::{Vector2, Vector3};
+
+/// Where the swarm starts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Mode {
+    /// The anatomical ranges: the first frame and after a loss.
+    Initial,
+    /// Windows around the predicted pose.
+    Trajectory,
+}
+
+/// The three stages, in fitting order.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[repr(usize)]
+pub enum Stage {
+    Torso = 0,
+    RightArm,
+    LeftArm,
+}
+
+/// Stage names, in order.
+pub const STAGE_NAMES: [&str; 3] = ["torso", "right_arm", "left_arm"];
+
+impl Stage {
+    pub const ALL: [Stage; 3] = [Stage::Torso, Stage::RightArm, Stage::LeftArm];
+
+    fn dofs(self) -> &'static [Dof] {
+        match self {
+            Stage::Torso => &[Dof::TorsoY, Dof::TorsoX, Dof::TorsoZ],
+            // y_down moves no joint and no cone: it is not searched (docs/body-model.md).
+            Stage::RightArm => &[Dof::RightYUp, Dof::RightXUp, Dof::RightZUp, Dof::RightXDown],
+            Stage::LeftArm => &[Dof::LeftYUp, Dof::LeftXUp, Dof::LeftZUp, Dof::LeftXDown],
+        }
+    }
+
+    fn parts(self) -> &'static [Part] {
+        match self {
+            Stage::Torso => &[Part::Torso, Part::Neck, Part::Head],
+            Stage::RightArm => &[Part::RightUpperArm, Part::RightLowerArm],
+            Stage::LeftArm => &[Part::LeftUpperArm, Part::LeftLowerArm],
+        }
+    }
+
+    /// The joint whose skin point this stage matches, and that point's index.
+    fn skin_joint(self) -> (Joint, usize) {
+        match self {
+            Stage::Torso => (Joint::Head, 0),
+            Stage::RightArm => (Joint::RightHand, 1),
+            Stage::LeftArm => (Joint::LeftHand, 2),
+        }
+    }
+
+    fn side(self) -> Option<Side> {
+        match self {
+            Stage::Torso => None,
+            Stage::RightArm => Some(Side::Right),
+            Stage::LeftArm => Some(Side::Left),
+        }
+    }
+}
+
+/// Settings of the search.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SearchConfig {
+    pub swarm: SwarmConfig,
+    pub weights: CostWeights,
+    pub limits: JointLimits,
+    /// Reject poses whose arms pass through the torso or each other.
+    pub non_penetration: bool,
+    /// Worker threads; `None`: `UPPERPOSE_NUM_THREADS`, else every core.
+    pub threads: Option<usize>,
+    pub seed: u64,
+    /// Half-width in metres of the torso stage's search over the root's X and Y while
+    /// tracking; 0 keeps the root given. Off by default: on the development set the extra
+    /// freedom absorbed differences between the model's shape and the person's (joints 1-3 px
+    /// worse), so the root comes from the image alone.
+    pub root_window: f64,
+    /// The same in [`Mode::Initial`].
+    pub initial_root_window: f64,
+    /// Rasterise and count every n-th image row when scoring candidates (torso, arms): the
+    /// cost's sampling density against its price (docs/search.md). 1 is exact.
+    pub row_steps: [i32; 3],
+}
+
+impl Default for SearchConfig {
+    fn default() -> Self {
+        SearchConfig {
+            swarm: SwarmConfig::default(),
+            weights: CostWeights::default(),
+            limits: JointLimits::anatomical(),
+            non_penetration: true,
+            threads: None,
+            seed: 0,
+            root_window: 0.0,
+            initial_root_window: 0.0,
+            row_steps: [3, 2, 2],
+        }
+    }
+}
+
+/// One frame's inputs.
+#[derive(Debug, Clone, Copy)]
+pub struct FrameRequest<'a> {
+    pub frame: FrameView<'a>,
+    /// The predicted pose: the centre of the trajectory windows and the pose of every part
+    /// not searched.
+    pub prediction: Pose,
+    /// The root's position estimated from the image, metres.
+    pub root: Vector3<f64>,
+    pub body: BodyModel,
+    pub camera: Camera,
+    pub mode: Mode,
+    /// Multiplies the trajectory windows (widen after a poor fit).
+    pub window_scale: f64,
+    /// Seconds since the previous frame; windows scale with it (SPEC 5).
+    pub frame_interval: f64,
+    /// Which stages to search (motion flags); the others keep the prediction.
+    pub search: [bool; 3],
+    /// Keys the random streams, with the seed.
+    pub frame_index: u64,
+}
+
+/// The fit of one frame.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FrameFit {
+    pub pose: Pose,
+    pub root: Vector3<f64>,
+    /// Each stage's terms at the fitted pose.
+    pub terms: [CostTerms; 3],
+    /// Each stage's weighted cost at the fitted pose.
+    pub stage_costs: [f64; 3],
+    /// The sum of the stage costs.
+    pub cost: f64,
+    pub evaluations: usize,
+}
+
+/// Pixels per metre at the root's depth.
+fn pixels_per_metre(camera: &Camera, root: &Vector3<f64>) -> f64 {
+    camera.affine_scale().unwrap_or(camera.focal / root.z.max(1e-6))
+}
+
+fn outlines(parts: &[Part], skel: &Skeleton, body: &BodyModel, camera: &Camera) -> Option<Vec<Outline>> {
+    parts
+        .iter()
+        .map(|&p| outline_of_solid(&solid_of_part(p, skel, body), camera))
+        .collect()
+}
+
+/// A full-frame mask of some parts of the posed body.
+fn mask_of(parts: &[Part], skel: &Skeleton, body: &BodyModel, camera: &Camera, width: u32, height: u32) -> BitMask {
+    let full = Roi::full(width, height);
+    let mut m = BitMask::new(full);
+    for &p in parts {
+        if let Some(o) = outline_of_solid(&solid_of_part(p, skel, body), camera) {
+            let mut spans = crate::raster::RowSpans::default();
+            Scanner::new(&o).spans_into(&full, &mut spans);
+            m.fill(&spans);
+        }
+    }
+    m
+}
+
+/// The stage's region: the parts' box at the current pose, grown by what the search can reach.
+fn stage_roi(stage: Stage, req: &FrameRequest, skel: &Skeleton, half: &[f64]) -> Option<Roi> {
+    let ppm = pixels_per_metre(&req.camera, &skel.root);
+    let b = &req.body;
+    let reach_m = match (stage, req.mode) {
+        (Stage::Torso, Mode::Trajectory) => half.iter().take(3).sum::<f64>() * 0.6 + half.get(3).copied().unwrap_or(0.0),
+        (Stage::Torso, Mode::Initial) => 0.45 + half.get(3).copied().unwrap_or(0.0),
+        (_, Mode::Trajectory) => (half[0] + half[1] + half[2]) * (b.upper_arm_length + b.lower_arm_length) + half[3] * b.lower_arm_length,
+        (_, Mode::Initial) => 0.0,
+    };
+    let (mut x0, mut y0, mut x1, mut y1) = match (stage.side(), req.mode) {
+        (Some(side), Mode::Initial) => {
+            // Everything the arm can reach: a ball around the shoulder.
+            let s = req.camera.project(&skel.arm(side).shoulder)?;
+            let r = (b.upper_arm_length + b.lower_arm_length + b.upper_arm_radii[0]) * ppm;
+            (s.x - r, s.y - r, s.x + r, s.y + r)
+        }
+        _ => {
+            let mut acc = (f64::INFINITY, f64::INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY);
+            for o in outlines(stage.parts(), skel, b, &req.camera)? {
+                if let Some(bb) = o.bounds() {
+                    acc = (acc.0.min(bb.0), acc.1.min(bb.1), acc.2.max(bb.2), acc.3.max(bb.3));
+                }
+            }
+            acc
+        }
+    };
+    let pad = reach_m * ppm + 4.0;
+    x0 = (x0 - pad).floor().max(0.0);
+    y0 = (y0 - pad).floor().max(0.0);
+    x1 = (x1 + pad).ceil().min(f64::from(req.frame.width));
+    y1 = (y1 + pad).ceil().min(f64::from(req.frame.height));
+    (x1 > x0 && y1 > y0).then(|| Roi {
+        x: x0 as i32,
+        y: y0 as i32,
+        width: (x1 - x0) as u32,
+        height: (y1 - y0) as u32,
+    })
+}
+
+/// Everything one stage needs to score candidates.
+struct StageSetup<'a> {
+    stage: Stage,
+    req: &'a FrameRequest<'a>,
+    config: &'a SearchConfig,
+    region: StageRegion,
+    base_pose: Pose,
+    base_root: Vector3<f64>,
+    skin_target: Option<Vector2<f64>>,
+    shoulder_px: f64,
+    /// Search dimensions: the stage's angles, plus root dx, dy for the torso.
+    bounds: Vec<DofRange>,
+}
+
+impl StageSetup<'_> {
+    fn candidate(&self, x: &[f64]) -> (Pose, Vector3<f64>) {
+        let mut p = self.base_pose;
+        let dofs = self.stage.dofs();
+        for (k, &d) in dofs.iter().enumerate() {
+            p.set(d, x[k]);
+        }
+        let mut r = self.base_root;
+        if x.len() > dofs.len() {
+            r.x += x[dofs.len()];
+            r.y += x[dofs.len() + 1];
+        }
+        (p, r)
+    }
+
+    fn terms(&self, pose: &Pose, root: &Vector3<f64>, scratch: &mut Scratch) -> Option<CostTerms> {
+        let req = self.req;
+        let skel = skeleton_from_pose(pose, root, &req.body);
+        if let (Some(side), true) = (self.stage.side(), self.config.non_penetration) {
+            if constraints::arm_penetrates(&skel, &req.body, side) {
+                return None;
+            }
+        }
+        let scanners: Vec<Scanner> = outlines(self.stage.parts(), &skel, &req.body, &req.camera)?
+            .iter()
+            .map(Scanner::new)
+            .collect();
+        let (joint, _) = self.stage.skin_joint();
+        let skin: Vec<SkinPair> = self
+            .skin_target
+            .and_then(|image| {
+                let model = req.camera.project(&skel.joints()[joint as usize])?;
+                Some(SkinPair { model, image })
+            })
+            .into_iter()
+            .collect();
+        let step = self.config.row_steps[self.stage as usize];
+        Some(evaluate(&self.region, &req.frame, &scanners, &skin, self.shoulder_px, step, scratch))
+    }
+
+    fn cost(&self, x: &[f64], scratch: &mut Scratch) -> f64 {
+        let (p, r) = self.candidate(x);
+        self.terms(&p, &r, scratch).map_or(f64::INFINITY, |t| t.total(&self.config.weights))
+    }
+}
+
+/// Runs one stage on `pose` and `root` in place; returns the stage's terms at the result and
+/// the number of cost evaluations.
+fn run_stage(
+    stage: Stage,
+    req: &FrameRequest,
+    config: &SearchConfig,
+    pool: &rayon::ThreadPool,
+    pose: &mut Pose,
+    root: &mut Vector3<f64>,
+) -> (CostTerms, usize) {
+    let b = &req.body;
+    let skel = skeleton_from_pose(pose, root, b);
+    let scale = req.window_scale * req.frame_interval * 30.0;
+    let mut half: Vec<f64> = stage.dofs().iter().map(|&d| constraints::window_half_width(d) * scale).collect();
+    let root_half = match req.mode {
+        Mode::Initial => config.initial_root_window,
+        Mode::Trajectory => config.root_window * req.window_scale,
+    };
+    let search_root = stage == Stage::Torso && root_half > 0.0;
+    if search_root {
+        half.push(root_half);
+    }
+    let Some(roi) = stage_roi(stage, req, &skel, &half) else {
+        return (CostTerms::default(), 0); // the part is out of the image: keep it as predicted
+    };
+    let others: Vec<Part> = Part::ALL.iter().copied().filter(|p| !stage.parts().contains(p)).collect();
+    let base = mask_of(&others, &skel, b, &req.camera, req.frame.width, req.frame.height);
+    // The Arm term is only counted when it is weighed.
+    let torso = (stage.side().is_some() && config.weights.arm != 0.0)
+        .then(|| mask_of(Stage::Torso.parts(), &skel, b, &req.camera, req.frame.width, req.frame.height));
+    let region = StageRegion::new(&req.frame, roi, &base, torso.as_ref());
+
+    let mut bounds: Vec<DofRange> = stage
+        .dofs()
+        .iter()
+        .zip(&half)
+        .map(|(&d, &h)| match req.mode {
+            Mode::Initial => config.limits.range(d).clone(),
+            Mode::Trajectory => constraints::window(&config.limits, d, pose.get(d), h),
+        })
+        .collect();
+    if search_root {
+        let r = DofRange::new(-root_half, root_half).unwrap_or_else(|_| bounds[0].clone());
+        bounds.push(r.clone());
+        bounds.push(r);
+    }
+    let setup = StageSetup {
+        stage,
+        req,
+        config,
+        region,
+        base_pose: *pose,
+        base_root: *root,
+        skin_target: req.frame.skin.points[stage.skin_joint().1],
+        shoulder_px: b.shoulder_width * pixels_per_metre(&req.camera, root),
+        bounds,
+    };
+    let mut evaluations = 0;
+    if req.search[stage as usize] {
+        let mut start: Vec<f64> = stage.dofs().iter().map(|&d| pose.get(d)).collect();
+        if search_root {
+            start.extend([0.0, 0.0]);
+        }
+        let mut rng = rng::Rng::for_stage(config.seed, req.frame_index, stage as u64);
+        let result = minimise(
+            &setup.bounds,
+            &config.swarm,
+            &[start],
+            &mut rng,
+            pool,
+            Scratch::default,
+            |scratch, x| setup.cost(x, scratch),
+        );
+        evaluations = result.evaluations;
+        if result.cost.is_finite() {
+            (*pose, *root) = setup.candidate(&result.best);
+        }
+    }
+    let terms = setup.terms(pose, root, &mut Scratch::default()).unwrap_or_default();
+    (terms, evaluations)
+}
+
+fn check(req: &FrameRequest) -> Result<()> {
+    positive("window_scale", req.window_scale)?;
+    positive("frame_interval", req.frame_interval)?;
+    for (name, v) in [("root[0]", req.root.x), ("root[1]", req.root.y), ("root[2]", req.root.z)] {
+        finite(name, v)?;
+    }
+    if req.camera.is_perspective() && req.root.z <= 0.0 {
+        return Err(CoreError::OutOfRange {
+            name: "root[2]",
+            expected: "> 0 (in front of the camera)",
+            value: req.root.z,
+        });
+    }
+    req.body.validate()
+}
+
+/// Fits one frame: torso, right arm, left arm.
+pub fn fit_frame(req: &FrameRequest, config: &SearchConfig) -> Result<FrameFit> {
+    check(req)?;
+    let pool = parallel::pool(parallel::resolve_threads(config.threads)?)?;
+    let mut pose = config.limits.clamp(&req.prediction);
+    // y_down is not searched; keep the prediction's value even outside the limits' clamp.
+    let mut root = req.root;
+    let mut terms = [CostTerms::default(); 3];
+    let mut evaluations = 0;
+    for stage in Stage::ALL {
+        let (t, n) = run_stage(stage, req, config, &pool, &mut pose, &mut root);
+        terms[stage as usize] = t;
+        evaluations += n;
+    }
+    let stage_costs = terms.map(|t| t.total(&config.weights));
+    Ok(FrameFit {
+        pose,
+        root,
+        terms,
+        stage_costs,
+        cost: stage_costs.iter().sum(),
+        evaluations,
+    })
+}

@@ -1,0 +1,244 @@
+//! The search on features rendered from known poses.
+
+#![allow(clippy::panic, clippy::unwrap_used, clippy::expect_used)] // test code may fail loudly
+
+use nalgebra::{Vector2, Vector3};
+use proptest::prelude::*;
+use upperpose_core::image::{FrameView, SkinPoints};
+use upperpose_core::search::{fit_frame, FrameFit, FrameRequest, Mode, SearchConfig};
+use upperpose_core::{skeleton_from_pose, BitMask, BodyModel, BodyRaster, Camera, Dof, Joint, Pose, Roi};
+
+const W: u32 = 640;
+const H: u32 = 480;
+
+/// Ideal features of a pose: the model's silhouette, its contours dilated by one pixel as
+/// edges, no motion, and the projected head and hands as skin points.
+struct Features {
+    sil: Vec<u64>,
+    edge: Vec<u64>,
+    motion: Vec<u64>,
+    skin: SkinPoints,
+}
+
+fn dilate(m: &BitMask) -> Vec<u64> {
+    let s = m.stride;
+    let h = m.roi.height as usize;
+    let mut rows = vec![0u64; m.words.len()];
+    for r in 0..h {
+        for k in 0..s {
+            let w = m.words[r * s + k];
+            let left = if k > 0 { m.words[r * s + k - 1] >> 63 } else { 0 };
+            let right = if k + 1 < s { m.words[r * s + k + 1] << 63 } else { 0 };
+            rows[r * s + k] = w | (w << 1) | left | (w >> 1) | right;
+        }
+    }
+    let mut out = rows.clone();
+    for r in 0..h {
+        for k in 0..s {
+            if r > 0 {
+                out[r * s + k] |= rows[(r - 1) * s + k];
+            }
+            if r + 1 < h {
+                out[r * s + k] |= rows[(r + 1) * s + k];
+            }
+        }
+    }
+    out
+}
+
+fn features_of(pose: &Pose, root: &Vector3<f64>, body: &BodyModel, camera: &Camera) -> Features {
+    let skel = skeleton_from_pose(pose, root, body);
+    let raster = BodyRaster::new(&skel, body, camera, Roi::full(W, H));
+    let mut contour = BitMask::new(Roi::full(W, H));
+    for c in raster.contours() {
+        contour.union(&c);
+    }
+    let joints = skel.joints();
+    let point = |j: Joint| camera.project(&joints[j as usize]);
+    Features {
+        sil: raster.union().words,
+        edge: dilate(&contour),
+        motion: vec![0; contour.words.len()],
+        skin: SkinPoints {
+            points: [point(Joint::Head), point(Joint::RightHand), point(Joint::LeftHand)],
+        },
+    }
+}
+
+fn camera() -> Camera {
+    Camera::perspective(640.0, 319.5, 239.5).unwrap()
+}
+
+fn request<'a>(f: &'a Features, prediction: Pose, root: Vector3<f64>, mode: Mode) -> FrameRequest<'a> {
+    FrameRequest {
+        frame: FrameView::new(W, H, &f.sil, &f.edge, &f.motion, f.skin).unwrap(),
+        prediction,
+        root,
+        body: BodyModel::default(),
+        camera: camera(),
+        mode,
+        window_scale: 1.0,
+        frame_interval: 1.0 / 30.0,
+        search: [true; 3],
+        frame_index: 7,
+    }
+}
+
+fn joints_2d(pose: &Pose, root: &Vector3<f64>) -> Vec<Vector2<f64>> {
+    let skel = skeleton_from_pose(pose, root, &BodyModel::default());
+    skel.joints().iter().map(|j| camera().project(j).unwrap()).collect()
+}
+
+fn mean_error(fit: &FrameFit, truth: &Pose, root: &Vector3<f64>) -> f64 {
+    let a = joints_2d(&fit.pose, &fit.root);
+    let b = joints_2d(truth, root);
+    a.iter().zip(&b).map(|(p, q)| (p - q).norm()).sum::<f64>() / a.len() as f64
+}
+
+fn test_poses() -> Vec<Pose> {
+    let mut out = Vec::new();
+    let mut a = Pose::default();
+    a.set(Dof::RightZUp, 0.6);
+    a.set(Dof::LeftZUp, 0.6);
+    out.push(a);
+    let mut wave = a;
+    wave.set(Dof::RightZUp, 1.3);
+    wave.set(Dof::RightXDown, 1.4);
+    wave.set(Dof::RightYUp, -1.0);
+    out.push(wave);
+    let mut reach = a;
+    reach.set(Dof::TorsoY, 0.2);
+    reach.set(Dof::LeftXUp, 1.0);
+    reach.set(Dof::LeftZUp, 0.4);
+    reach.set(Dof::LeftXDown, 0.7);
+    reach.set(Dof::RightZUp, 0.9);
+    reach.set(Dof::RightXDown, 0.5);
+    out.push(reach);
+    out
+}
+
+#[test]
+fn the_cost_is_lowest_at_the_true_pose() {
+    let root = Vector3::new(0.02, 0.12, 2.2);
+    let body = BodyModel::default();
+    let config = SearchConfig::default();
+    for truth in test_poses() {
+        let f = features_of(&truth, &root, &body, &camera());
+        // Evaluate without searching: the fit then reports the cost of the prediction.
+        let cost_of = |p: &Pose| {
+            let mut req = request(&f, *p, root, Mode::Trajectory);
+            req.search = [false; 3];
+            fit_frame(&req, &config).unwrap().cost
+        };
+        let at_truth = cost_of(&truth);
+        let truth_joints = joints_2d(&truth, &root);
+        for dof in Dof::ALL {
+            if matches!(dof, Dof::RightYDown | Dof::LeftYDown) {
+                continue; // moves no joint
+            }
+            for delta in [-0.08, 0.08] {
+                let mut p = truth;
+                p.set(dof, truth.get(dof) + delta);
+                let moved = joints_2d(&p, &root).iter().zip(&truth_joints).map(|(a, b)| (a - b).norm()).fold(0.0, f64::max);
+                if moved < 3.0 || !config.limits.contains(&p) {
+                    continue;
+                }
+                let c = cost_of(&p);
+                assert!(c > at_truth, "{dof:?} {delta:+}: cost {c} <= {at_truth} at the truth (moves a joint {moved:.1} px)");
+            }
+        }
+    }
+}
+
+#[test]
+fn fitting_from_a_noisy_prediction_recovers_the_joints() {
+    let root = Vector3::new(0.02, 0.12, 2.2);
+    let body = BodyModel::default();
+    let config = SearchConfig::default();
+    let mut worst: f64 = 0.0;
+    for (k, truth) in test_poses().iter().enumerate() {
+        let f = features_of(truth, &root, &body, &camera());
+        let mut noisy = *truth;
+        for (i, dof) in Dof::ALL.iter().enumerate() {
+            // A fixed pattern of offsets of up to 0.1 rad, inside the trajectory windows.
+            let sign = if (i + k) % 2 == 0 { 1.0 } else { -1.0 };
+            noisy.set(*dof, truth.get(*dof) + sign * 0.04 * (1 + (i + k) % 3) as f64 * 0.85);
+        }
+        let fit = fit_frame(&request(&f, noisy, root, Mode::Trajectory), &config).unwrap();
+        let before = mean_error(&FrameFit { pose: noisy, root, ..fit.clone() }, truth, &root);
+        let after = mean_error(&fit, truth, &root);
+        worst = worst.max(after);
+        assert!(after < 3.0, "pose {k}: mean joint error {after:.2} px (prediction had {before:.2})");
+    }
+    eprintln!("worst mean joint error {worst:.2} px");
+}
+
+#[test]
+fn root_refinement_corrects_an_offset_root_when_enabled() {
+    let root = Vector3::new(0.02, 0.12, 2.2);
+    let truth = test_poses()[2];
+    let f = features_of(&truth, &root, &BodyModel::default(), &camera());
+    let off = root + Vector3::new(0.012, -0.01, 0.0);
+    let plain = fit_frame(&request(&f, truth, off, Mode::Trajectory), &SearchConfig::default()).unwrap();
+    let config = SearchConfig {
+        root_window: 0.02,
+        ..SearchConfig::default()
+    };
+    let refined = fit_frame(&request(&f, truth, off, Mode::Trajectory), &config).unwrap();
+    assert_eq!(plain.root, off);
+    assert!((refined.root - root).norm() < 0.004, "{:?}", refined.root - root);
+    assert!(mean_error(&refined, &truth, &root) < mean_error(&plain, &truth, &root));
+}
+
+#[test]
+fn initial_mode_finds_the_a_pose_from_the_rest_pose() {
+    let root = Vector3::new(0.0, 0.12, 2.2);
+    let body = BodyModel::default();
+    let truth = test_poses()[0];
+    let f = features_of(&truth, &root, &body, &camera());
+    let mut config = SearchConfig::default();
+    config.swarm.particles = 48;
+    config.swarm.iterations = 40;
+    let fit = fit_frame(&request(&f, Pose::default(), root, Mode::Initial), &config).unwrap();
+    let err = mean_error(&fit, &truth, &root);
+    assert!(err < 5.0, "mean joint error {err:.2} px");
+}
+
+#[test]
+fn same_seed_same_fit_whatever_the_thread_count() {
+    let root = Vector3::new(0.02, 0.12, 2.2);
+    let truth = test_poses()[1];
+    let f = features_of(&truth, &root, &BodyModel::default(), &camera());
+    let mut prediction = truth;
+    prediction.set(Dof::RightXDown, truth.get(Dof::RightXDown) - 0.1);
+    let fit = |threads| {
+        let config = SearchConfig {
+            threads: Some(threads),
+            ..SearchConfig::default()
+        };
+        fit_frame(&request(&f, prediction, root, Mode::Trajectory), &config).unwrap()
+    };
+    let one = fit(1);
+    assert_eq!(fit(2), one);
+    assert_eq!(fit(4), one);
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 24, failure_persistence: None, ..ProptestConfig::default() })]
+    #[test]
+    fn every_fit_satisfies_the_constraints(seed in 0u64..1000, dx in -0.4..0.4f64, xd in 0.0..2.4f64, zu in 0.0..2.0f64) {
+        let root = Vector3::new(0.0, 0.12, 2.2);
+        let body = BodyModel::default();
+        let mut truth = test_poses()[0];
+        truth.set(Dof::RightXDown, xd);
+        truth.set(Dof::LeftZUp, zu);
+        truth.set(Dof::TorsoY, dx);
+        let f = features_of(&truth, &root, &body, &camera());
+        let config = SearchConfig { seed, ..SearchConfig::default() };
+        let mut req = request(&f, truth, root, Mode::Initial);
+        req.frame_index = seed;
+        let fit = fit_frame(&req, &config).unwrap();
+        prop_assert!(config.limits.contains(&fit.pose));
+        prop_assert!(!upperpose_core::search::constraints::pose_penetrates(&fit.pose, &fit.root, &body) || upperpose_core::search::constraints::pose_penetrates(&truth, &root, &body));
+    }
+}

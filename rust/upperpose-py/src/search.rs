@@ -1,0 +1,401 @@
+//! The per-frame search: `SearchConfig`, `FrameFit` and `fit_frame_bits`.
+
+use std::collections::HashMap;
+
+use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
+use pyo3::exceptions::{PyTypeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use upperpose_core::image::{FrameView, SkinPoints};
+use upperpose_core::nalgebra::{Vector2, Vector3};
+use upperpose_core::search::apso::SwarmConfig;
+use upperpose_core::search::cost::{CostTerms, CostWeights};
+use upperpose_core::search::{fit_frame, FrameFit, FrameRequest, Mode, SearchConfig, STAGE_NAMES};
+use upperpose_core::{skeleton_from_pose, JointLimits};
+
+use crate::convert::{array_from_points, pose_from_array, vector3_from_array};
+use crate::errors::IntoPy;
+use crate::model::{PyBodyModel, PyCamera};
+
+const TERM_NAMES: [&str; 6] = ["sil", "edge", "motion", "skin", "arm", "ratio"];
+
+fn terms_values(t: &CostTerms) -> [f64; 6] {
+    [t.sil, t.edge, t.motion, t.skin, t.arm, t.ratio]
+}
+
+/// Settings of the search (frozen). Every argument is keyword-only and optional.
+///
+/// Args:
+///     particles: swarm size per stage.
+///     iterations: swarm iterations per stage.
+///     c0: annealing factor of w = c1 = c2 = c0 * e^(1 - m/M); below 1/e.
+///     annealing: anneal (APSO); False keeps the coefficients constant (plain PSO).
+///     max_speed: velocity clamp as a fraction of each dimension's range.
+///     weights: dict overriding some of the six cost weights (sil, edge, motion, skin, arm, ratio).
+///     limits: "anatomical" (default) or "thesis" (Table 3.5-1).
+///     non_penetration: reject arms passing through the torso or each other.
+///     threads: worker threads; None uses UPPERPOSE_NUM_THREADS, else every core.
+///     seed: random seed; the same seed gives the same fit whatever the thread count.
+///     root_window: half-width (metres) of the torso stage's search over the root's X and Y;
+///         0 (the default) keeps the root given.
+///     initial_root_window: the same in "initial" mode.
+///     row_steps: (torso, right arm, left arm): score every n-th image row; 1 is exact.
+#[pyclass(frozen, name = "SearchConfig", module = "upperpose._upperpose")]
+#[derive(Clone)]
+pub struct PySearchConfig {
+    pub inner: SearchConfig,
+    limits_name: String,
+}
+
+#[pymethods]
+impl PySearchConfig {
+    #[new]
+    #[pyo3(signature = (*, particles = None, iterations = None, c0 = None, annealing = None, max_speed = None,
+                        weights = None, limits = "anatomical", non_penetration = true, threads = None, seed = 0,
+                        root_window = None, initial_root_window = None, row_steps = None))]
+    #[allow(clippy::too_many_arguments)] // one keyword argument per setting
+    fn new(
+        particles: Option<usize>,
+        iterations: Option<usize>,
+        c0: Option<f64>,
+        annealing: Option<bool>,
+        max_speed: Option<f64>,
+        weights: Option<HashMap<String, f64>>,
+        limits: &str,
+        non_penetration: bool,
+        threads: Option<usize>,
+        seed: u64,
+        root_window: Option<f64>,
+        initial_root_window: Option<f64>,
+        row_steps: Option<(i32, i32, i32)>,
+    ) -> PyResult<Self> {
+        let mut c = SearchConfig::default();
+        let d = SwarmConfig::default();
+        c.swarm = SwarmConfig {
+            particles: particles.unwrap_or(d.particles),
+            iterations: iterations.unwrap_or(d.iterations),
+            c0: c0.unwrap_or(d.c0),
+            annealing: annealing.unwrap_or(d.annealing),
+            max_speed: max_speed.unwrap_or(d.max_speed),
+        };
+        if c.swarm.particles == 0 {
+            return Err(PyValueError::new_err("particles must be >= 1, got 0"));
+        }
+        if !(c.swarm.c0 > 0.0 && c.swarm.c0.is_finite()) {
+            return Err(PyValueError::new_err(format!("c0 must be > 0, got {}", c.swarm.c0)));
+        }
+        if !(c.swarm.max_speed > 0.0 && c.swarm.max_speed <= 1.0) {
+            return Err(PyValueError::new_err(format!("max_speed must be in (0, 1], got {}", c.swarm.max_speed)));
+        }
+        if let Some(w) = weights {
+            let mut x = c.weights;
+            for (name, value) in w {
+                if !value.is_finite() {
+                    return Err(PyValueError::new_err(format!("weights[{name:?}] must be finite, got {value}")));
+                }
+                let slot = match name.as_str() {
+                    "sil" => &mut x.sil,
+                    "edge" => &mut x.edge,
+                    "motion" => &mut x.motion,
+                    "skin" => &mut x.skin,
+                    "arm" => &mut x.arm,
+                    "ratio" => &mut x.ratio,
+                    other => {
+                        return Err(PyValueError::new_err(format!(
+                            "unknown weight {other:?}; weights are {}",
+                            TERM_NAMES.join(", ")
+                        )))
+                    }
+                };
+                *slot = value;
+            }
+            c.weights = x;
+        }
+        c.limits = match limits {
+            "anatomical" => JointLimits::anatomical(),
+            "thesis" => JointLimits::thesis(),
+            other => {
+                return Err(PyValueError::new_err(format!("limits must be 'anatomical' or 'thesis', got {other:?}")))
+            }
+        };
+        c.non_penetration = non_penetration;
+        if threads == Some(0) {
+            return Err(PyValueError::new_err("threads must be >= 1, got 0"));
+        }
+        c.threads = threads;
+        c.seed = seed;
+        for (name, v, slot) in [
+            ("root_window", root_window, &mut c.root_window),
+            ("initial_root_window", initial_root_window, &mut c.initial_root_window),
+        ] {
+            if let Some(v) = v {
+                if !(v >= 0.0 && v.is_finite()) {
+                    return Err(PyValueError::new_err(format!("{name} must be >= 0, got {v}")));
+                }
+                *slot = v;
+            }
+        }
+        if let Some((a, b, d)) = row_steps {
+            if a < 1 || b < 1 || d < 1 {
+                return Err(PyValueError::new_err(format!("row_steps must all be >= 1, got ({a}, {b}, {d})")));
+            }
+            c.row_steps = [a, b, d];
+        }
+        Ok(PySearchConfig {
+            inner: c,
+            limits_name: limits.to_string(),
+        })
+    }
+
+    #[getter]
+    fn particles(&self) -> usize {
+        self.inner.swarm.particles
+    }
+    #[getter]
+    fn iterations(&self) -> usize {
+        self.inner.swarm.iterations
+    }
+    #[getter]
+    fn c0(&self) -> f64 {
+        self.inner.swarm.c0
+    }
+    #[getter]
+    fn annealing(&self) -> bool {
+        self.inner.swarm.annealing
+    }
+    #[getter]
+    fn max_speed(&self) -> f64 {
+        self.inner.swarm.max_speed
+    }
+    #[getter]
+    fn limits(&self) -> &str {
+        &self.limits_name
+    }
+    #[getter]
+    fn non_penetration(&self) -> bool {
+        self.inner.non_penetration
+    }
+    #[getter]
+    fn threads(&self) -> Option<usize> {
+        self.inner.threads
+    }
+    #[getter]
+    fn seed(&self) -> u64 {
+        self.inner.seed
+    }
+    #[getter]
+    fn root_window(&self) -> f64 {
+        self.inner.root_window
+    }
+    #[getter]
+    fn initial_root_window(&self) -> f64 {
+        self.inner.initial_root_window
+    }
+    /// Every n-th image row is scored, per stage (torso, right arm, left arm); 1 is exact.
+    #[getter]
+    fn row_steps(&self) -> (i32, i32, i32) {
+        let [a, b, c] = self.inner.row_steps;
+        (a, b, c)
+    }
+    /// The six cost weights by term name.
+    #[getter]
+    fn weights(&self) -> HashMap<&'static str, f64> {
+        let w: CostWeights = self.inner.weights;
+        TERM_NAMES.into_iter().zip([w.sil, w.edge, w.motion, w.skin, w.arm, w.ratio]).collect()
+    }
+
+    fn __repr__(&self) -> String {
+        let s = &self.inner.swarm;
+        format!(
+            "SearchConfig(particles={}, iterations={}, c0={}, annealing={}, limits={:?}, seed={})",
+            s.particles,
+            s.iterations,
+            s.c0,
+            if s.annealing { "True" } else { "False" },
+            self.limits_name,
+            self.inner.seed
+        )
+    }
+}
+
+/// The fit of one frame (frozen).
+#[pyclass(frozen, name = "FrameFit", module = "upperpose._upperpose")]
+pub struct PyFrameFit {
+    fit: FrameFit,
+    joints_3d: Vec<Vector3<f64>>,
+    joints_2d: Vec<Vector2<f64>>,
+}
+
+#[pymethods]
+impl PyFrameFit {
+    /// `(13,)` float64 fitted angles in radians.
+    #[getter]
+    fn pose<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_slice(py, &self.fit.pose.0)
+    }
+    /// `(3,)` float64 root position in metres (refined by the torso stage).
+    #[getter]
+    fn root<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        PyArray1::from_slice(py, self.fit.root.as_slice())
+    }
+    /// `(7, 3)` float64 joints in metres, camera frame.
+    #[getter]
+    fn joints_3d<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        array_from_points(py, &self.joints_3d)
+    }
+    /// `(7, 2)` float64 joints in pixels (NaN for a joint a pinhole cannot see).
+    #[getter]
+    fn joints_2d<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let flat: Vec<f64> = self.joints_2d.iter().flat_map(|p| [p.x, p.y]).collect();
+        Ok(PyArray1::from_vec(py, flat).reshape([self.joints_2d.len(), 2])?.into_any())
+    }
+    /// Total cost: the sum of the three stages' weighted costs at the fit.
+    #[getter]
+    fn cost(&self) -> f64 {
+        self.fit.cost
+    }
+    /// Weighted cost of each stage: torso, right_arm, left_arm.
+    #[getter]
+    fn stage_costs(&self) -> HashMap<&'static str, f64> {
+        STAGE_NAMES.into_iter().zip(self.fit.stage_costs).collect()
+    }
+    /// Unweighted terms per stage: `{stage: {term: value}}`.
+    #[getter]
+    fn terms<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        for (stage, t) in STAGE_NAMES.iter().zip(&self.fit.terms) {
+            let inner: HashMap<&str, f64> = TERM_NAMES.into_iter().zip(terms_values(t)).collect();
+            d.set_item(stage, inner)?;
+        }
+        Ok(d)
+    }
+    /// Number of cost evaluations spent.
+    #[getter]
+    fn evaluations(&self) -> usize {
+        self.fit.evaluations
+    }
+
+    fn __repr__(&self) -> String {
+        format!("FrameFit(cost={:.4}, evaluations={})", self.fit.cost, self.fit.evaluations)
+    }
+}
+
+fn plane<'a>(name: &str, array: &'a PyReadonlyArray2<'_, u64>, height: usize, stride: usize) -> PyResult<&'a [u64]> {
+    let shape = array.shape();
+    if shape != [height, stride] {
+        return Err(PyValueError::new_err(format!(
+            "{name} must have shape ({height}, {stride}), got ({}, {})",
+            shape[0], shape[1]
+        )));
+    }
+    array
+        .as_slice()
+        .map_err(|_| PyTypeError::new_err(format!("{name} must be a C-contiguous uint64 array")))
+}
+
+/// Fits one frame from bit-packed features (use `upperpose.fit_frame`, which takes a
+/// `FrameFeatures`).
+///
+/// Args:
+///     sil, edge, motion: `(H, ceil(W/64))` uint64 bit planes (bit i of word k = pixel 64k+i).
+///     points: `(3, 2)` float64 head, right-hand, left-hand skin points; NaN rows are ignored.
+///     width: image width in pixels (the planes' height gives H).
+///     prediction: `(13,)` predicted pose.
+///     root: `(3,)` root position in metres.
+///     body, camera: the model and camera.
+///     mode: "trajectory" or "initial".
+///     window_scale: multiplies the trajectory windows, > 0.
+///     frame_interval: seconds since the previous frame, > 0.
+///     search: stage names to search ("torso", "right_arm", "left_arm").
+///     frame_index: keys the random streams.
+///     config: the search settings.
+///
+/// Returns:
+///     The `FrameFit`.
+#[pyfunction(name = "fit_frame_bits")]
+#[pyo3(signature = (sil, edge, motion, points, width, prediction, root, body, camera, mode, window_scale,
+                    frame_interval, search, frame_index, config))]
+#[allow(clippy::too_many_arguments)]
+pub fn fit_frame_bits_py(
+    py: Python<'_>,
+    sil: PyReadonlyArray2<'_, u64>,
+    edge: PyReadonlyArray2<'_, u64>,
+    motion: PyReadonlyArray2<'_, u64>,
+    points: PyReadonlyArray2<'_, f64>,
+    width: u32,
+    prediction: PyReadonlyArray1<'_, f64>,
+    root: PyReadonlyArray1<'_, f64>,
+    body: &PyBodyModel,
+    camera: &PyCamera,
+    mode: &str,
+    window_scale: f64,
+    frame_interval: f64,
+    search: Vec<String>,
+    frame_index: u64,
+    config: &PySearchConfig,
+) -> PyResult<PyFrameFit> {
+    let height = sil.shape()[0];
+    let stride = (width as usize).div_ceil(64);
+    let (s, e, m) = (
+        plane("sil", &sil, height, stride)?,
+        plane("edge", &edge, height, stride)?,
+        plane("motion", &motion, height, stride)?,
+    );
+    if points.shape() != [3, 2] {
+        return Err(PyValueError::new_err(format!("points must have shape (3, 2), got {:?}", points.shape())));
+    }
+    let pts = points.as_slice().map_err(|_| PyTypeError::new_err("points must be a C-contiguous float64 array"))?;
+    let mut skin = SkinPoints::default();
+    for (k, slot) in skin.points.iter_mut().enumerate() {
+        let (x, y) = (pts[2 * k], pts[2 * k + 1]);
+        *slot = (x.is_finite() && y.is_finite()).then(|| Vector2::new(x, y));
+    }
+    let mode = match mode {
+        "trajectory" => Mode::Trajectory,
+        "initial" => Mode::Initial,
+        other => return Err(PyValueError::new_err(format!("mode must be 'trajectory' or 'initial', got {other:?}"))),
+    };
+    let mut flags = [false; 3];
+    for name in &search {
+        match STAGE_NAMES.iter().position(|s| s == name) {
+            Some(i) => flags[i] = true,
+            None => {
+                return Err(PyValueError::new_err(format!(
+                    "unknown stage {name:?} in search; stages are {}",
+                    STAGE_NAMES.join(", ")
+                )))
+            }
+        }
+    }
+    let height = u32::try_from(height).map_err(|_| PyValueError::new_err("features are too tall"))?;
+    let frame = FrameView::new(width, height, s, e, m, skin).py()?;
+    let req = FrameRequest {
+        frame,
+        prediction: pose_from_array(&prediction)?,
+        root: vector3_from_array("root", &root)?,
+        body: body.inner,
+        camera: camera.inner,
+        mode,
+        window_scale,
+        frame_interval,
+        search: flags,
+        frame_index,
+    };
+    let config = &config.inner;
+    let (fit, joints_3d, joints_2d) = py
+        .detach(|| {
+            let fit = fit_frame(&req, config)?;
+            let joints = skeleton_from_pose(&fit.pose, &fit.root, &req.body).joints();
+            let j2: Vec<Vector2<f64>> = joints
+                .iter()
+                .map(|j| req.camera.project(j).unwrap_or(Vector2::new(f64::NAN, f64::NAN)))
+                .collect();
+            Ok((fit, joints.to_vec(), j2))
+        })
+        .py()?;
+    Ok(PyFrameFit {
+        fit,
+        joints_3d,
+        joints_2d,
+    })
+}

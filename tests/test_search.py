@@ -1,0 +1,144 @@
+"""The search from Python: recovery on rendered features, argument checks, threads, the GIL."""
+
+from __future__ import annotations
+
+import threading
+import time
+from dataclasses import dataclass
+
+import numpy as np
+import pytest
+
+import upperpose
+from upperpose.features.packing import pack_rows
+
+ROOT = np.array([0.02, 0.12, 2.2])
+
+
+@dataclass
+class IdealFeatures:
+    """Features of a rendered pose: its silhouette, contours as edges, skin points at the joints."""
+
+    sil_bits: np.ndarray
+    edge_bits: np.ndarray
+    motion_bits: np.ndarray
+    points: np.ndarray
+    size: tuple[int, int] = (480, 640)
+
+    def points_array(self) -> np.ndarray:
+        return self.points
+
+
+def ideal(pose: upperpose.Pose, camera: upperpose.Camera) -> IdealFeatures:
+    m = upperpose.render_masks(pose, ROOT, camera, 640, 480)
+    j = upperpose.project(camera, upperpose.forward_kinematics(pose, ROOT))
+    edge = np.zeros_like(m["contour"])
+    edge[m["contour"] > 0] = 1
+    return IdealFeatures(
+        pack_rows(m["silhouette"]), pack_rows(edge), pack_rows(np.zeros_like(edge)), j[[0, 5, 6]].copy()
+    )
+
+
+WAVE = upperpose.Pose(right_z_up=1.3, right_x_down=1.4, right_y_up=-1.0, left_z_up=0.6)
+
+
+def joint_error(fit: upperpose.FrameFit, truth: upperpose.Pose, camera: upperpose.Camera) -> float:
+    target = upperpose.project(camera, upperpose.forward_kinematics(truth, ROOT))
+    return float(np.linalg.norm(fit.joints_2d - target, axis=1).mean())
+
+
+def test_fit_recovers_a_pose_from_a_noisy_prediction(camera: upperpose.Camera, body: upperpose.BodyModel) -> None:
+    rng = np.random.default_rng(0)
+    noisy = WAVE.angles + rng.normal(0.0, 0.05, 13)
+    fit = upperpose.fit_frame(ideal(WAVE, camera), noisy, ROOT, body, camera)
+    start = float(
+        np.linalg.norm(
+            upperpose.project(camera, upperpose.forward_kinematics(noisy, ROOT, body))
+            - upperpose.project(camera, upperpose.forward_kinematics(WAVE, ROOT, body)),
+            axis=1,
+        ).mean()
+    )
+    assert joint_error(fit, WAVE, camera) < 1.5 < start
+    assert fit.evaluations == 3 * 24 * 17
+    assert set(fit.terms) == {"torso", "right_arm", "left_arm"}
+    assert fit.cost == pytest.approx(sum(fit.stage_costs.values()))
+
+
+def test_unsearched_stages_keep_the_prediction(camera: upperpose.Camera, body: upperpose.BodyModel) -> None:
+    prediction = WAVE.replace(right_x_down=1.3, left_z_up=0.5)
+    fit = upperpose.fit_frame(ideal(WAVE, camera), prediction, ROOT, body, camera, search=["right_arm"])
+    np.testing.assert_array_equal(fit.pose[:3], prediction.angles[:3])
+    np.testing.assert_array_equal(fit.pose[8:], prediction.angles[8:])
+    assert abs(fit.pose[6] - 1.4) < abs(1.3 - 1.4)
+
+
+def test_same_seed_same_fit_for_1_and_2_threads(camera: upperpose.Camera, body: upperpose.BodyModel) -> None:
+    f = ideal(WAVE, camera)
+    prediction = WAVE.replace(right_x_down=1.3)
+    fits = [
+        upperpose.fit_frame(f, prediction, ROOT, body, camera, config=upperpose.SearchConfig(threads=t, seed=5))
+        for t in (1, 2, 1)
+    ]
+    for other in fits[1:]:
+        np.testing.assert_array_equal(other.pose, fits[0].pose)
+        assert other.cost == fits[0].cost
+
+
+def test_fit_releases_the_gil(camera: upperpose.Camera, body: upperpose.BodyModel) -> None:
+    f = ideal(WAVE, camera)
+    config = upperpose.SearchConfig(particles=64, iterations=60, threads=1)
+    ticks = 0
+    done = threading.Event()
+
+    def count() -> None:
+        nonlocal ticks
+        while not done.is_set():
+            ticks += 1
+            time.sleep(0)
+
+    t = threading.Thread(target=count)
+    t.start()
+    start = time.perf_counter()
+    upperpose.fit_frame(f, WAVE, ROOT, body, camera, mode="initial", config=config)
+    elapsed = time.perf_counter() - start
+    done.set()
+    t.join()
+    # With the GIL held for the whole fit, the counting thread would barely run.
+    assert elapsed > 0.05 and ticks > 1000
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "message"),
+    [
+        ({"mode": "fast"}, "mode must be 'trajectory' or 'initial'"),
+        ({"search": ["head"]}, 'unknown stage "head"'),
+        ({"window_scale": 0.0}, "window_scale must be > 0"),
+        ({"frame_interval": float("nan")}, "frame_interval must be finite"),
+        ({"root": [0.0, 0.0, -1.0]}, r"root\[2\] must be > 0"),
+        ({"width": 512}, r"sil must have shape \(480, 8\)"),
+    ],
+)
+def test_bad_arguments_are_named(
+    kwargs: dict, message: str, camera: upperpose.Camera, body: upperpose.BodyModel
+) -> None:
+    args = {"root": ROOT}
+    args.update(kwargs)
+    root = args.pop("root")
+    with pytest.raises(ValueError, match=message):
+        upperpose.fit_frame(ideal(WAVE, camera), WAVE, root, body, camera, **args)
+
+
+def test_search_config_checks_and_reports_its_settings() -> None:
+    c = upperpose.SearchConfig(particles=10, weights={"edge": 3.0}, limits="thesis", row_steps=(1, 1, 1))
+    assert (c.particles, c.limits, c.row_steps) == (10, "thesis", (1, 1, 1))
+    assert c.weights["edge"] == 3.0 and c.weights["sil"] == upperpose.SearchConfig().weights["sil"]
+    for bad, message in [
+        ({"particles": 0}, "particles must be >= 1"),
+        ({"weights": {"elbow": 1.0}}, 'unknown weight "elbow"'),
+        ({"limits": "loose"}, "limits must be"),
+        ({"threads": 0}, "threads must be >= 1"),
+        ({"row_steps": (0, 1, 1)}, "row_steps must all be >= 1"),
+        ({"c0": -1.0}, "c0 must be > 0"),
+    ]:
+        with pytest.raises(ValueError, match=message):
+            upperpose.SearchConfig(**bad)
