@@ -4,7 +4,9 @@
 
 use upperpose_core::image::SkinPoints;
 use upperpose_core::nalgebra::Vector3;
-use upperpose_core::{skeleton_from_pose, BitMask, BodyModel, BodyRaster, Camera, Joint, Pose, Roi, Side, Skeleton};
+use upperpose_core::{
+    skeleton_from_pose, BitMask, BodyModel, BodyRaster, Camera, Joint, Pose, Roi, Side, Skeleton,
+};
 
 /// A 640x480 scene: default body 2.2 m in front of the default camera (focal = 640 px), the
 /// right arm raised and bent, the left out to the side. The arm spans about 150 px.
@@ -69,7 +71,11 @@ pub fn ideal_features(s: &Scene) -> Features {
         motion: vec![0; edge.words.len()],
         edge: edge.words,
         skin: SkinPoints {
-            points: [point(Joint::Head), point(Joint::RightHand), point(Joint::LeftHand)],
+            points: [
+                point(Joint::Head),
+                point(Joint::RightHand),
+                point(Joint::LeftHand),
+            ],
         },
     }
 }

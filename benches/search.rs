@@ -35,10 +35,15 @@ fn bench(c: &mut Criterion) {
         ..SearchConfig::default()
     };
     let mut g = c.benchmark_group("stage_1_thread");
-    for (name, flags) in [("torso", [true, false, false]), ("right_arm", [false, true, false])] {
+    for (name, flags) in [
+        ("torso", [true, false, false]),
+        ("right_arm", [false, true, false]),
+    ] {
         let n = fit_frame(&req(flags), &one_thread).unwrap().evaluations as u64;
         g.throughput(Throughput::Elements(n));
-        g.bench_function(name, |b| b.iter(|| fit_frame(black_box(&req(flags)), &one_thread).unwrap()));
+        g.bench_function(name, |b| {
+            b.iter(|| fit_frame(black_box(&req(flags)), &one_thread).unwrap())
+        });
     }
     g.finish();
 

@@ -46,6 +46,7 @@ def test_three_separate_blobs_are_matched() -> None:
 def test_hands_together_are_merged() -> None:
     def together(s):
         return cv2.ellipse(s, (320, 330), (30, 14), 0, 0, 360, 255, -1)
+
     blobs = blobs_of(face, together)
     head, right, left = locate_points(blobs, joints((320, 100), (305, 330), (335, 330)), CONFIG)
     assert right.merged and left.merged and right.blob == left.blob
@@ -55,6 +56,7 @@ def test_hands_together_are_merged() -> None:
 def test_hand_near_face_but_separate_is_not_merged() -> None:
     def hand(s):
         return cv2.circle(s, (372, 112), 12, 255, -1)  # 12 px gap to the face
+
     blobs = blobs_of(face, hand, lambda s: cv2.circle(s, (200, 300), 14, 255, -1))
     # The prediction of the left hand lies between face and hand: the assignment still separates them.
     head, _, left = locate_points(blobs, joints((320, 100), (200, 300), (360, 110)), CONFIG)
@@ -66,8 +68,10 @@ def test_far_end_of_a_forearm_blob() -> None:
     # Bare forearm from (200, 250) to (140, 370) ending in the hand: the point is near the hand.
     def forearm(s):
         return cv2.line(s, (200, 250), (140, 370), 255, 22)
+
     def hand(s):
         return cv2.circle(s, (133, 384), 15, 255, -1)
+
     blobs = blobs_of(face, forearm, hand)
     prediction = joints((320, 100), (138, 378), (500, 300), right_elbow=(202, 246))
     _, right, left = locate_points(blobs, prediction, CONFIG)

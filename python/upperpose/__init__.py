@@ -19,6 +19,9 @@ from upperpose.model import (
     skeleton,
     solids,
 )
+from upperpose.pipeline import track_video
+from upperpose.search import FrameFit, SearchConfig, fit_frame
+from upperpose.tracker import Tracker, TrackerConfig, TrackResult
 
 __all__ = [
     "ANGLE_NAMES",
@@ -26,14 +29,21 @@ __all__ = [
     "PART_NAMES",
     "BodyModel",
     "Camera",
+    "FrameFit",
     "Pose",
+    "SearchConfig",
+    "TrackResult",
+    "Tracker",
+    "TrackerConfig",
     "UpperposeError",
     "VideoError",
     "__version__",
+    "fit_frame",
     "forward_kinematics",
     "joint_limits",
     "project",
     "render_masks",
     "skeleton",
+    "track_video",
     "solids",
 ]

@@ -76,8 +76,14 @@ impl<'a> FrameView<'a> {
             width,
             height,
             sil: BitPlane { words: sil, stride },
-            edge: BitPlane { words: edge, stride },
-            motion: BitPlane { words: motion, stride },
+            edge: BitPlane {
+                words: edge,
+                stride,
+            },
+            motion: BitPlane {
+                words: motion,
+                stride,
+            },
             skin,
         })
     }

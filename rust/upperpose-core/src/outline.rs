@@ -52,7 +52,12 @@ pub struct Outline {
 impl Outline {
     /// The outline's bounding box `(x0, y0, x1, y1)` in pixels, or `None` if it is empty.
     pub fn bounds(&self) -> Option<(f64, f64, f64, f64)> {
-        let mut b = (f64::INFINITY, f64::INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY);
+        let mut b = (
+            f64::INFINITY,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NEG_INFINITY,
+        );
         let mut grow = |x0: f64, y0: f64, x1: f64, y1: f64| {
             b = (b.0.min(x0), b.1.min(y0), b.2.max(x1), b.3.max(y1));
         };

@@ -31,7 +31,9 @@ pub fn resolve_threads(requested: Option<usize>) -> Result<usize> {
             }),
         };
     }
-    Ok(std::thread::available_parallelism().map(usize::from).unwrap_or(1))
+    Ok(std::thread::available_parallelism()
+        .map(usize::from)
+        .unwrap_or(1))
 }
 
 /// The shared pool with `threads` workers.

@@ -127,7 +127,10 @@ impl RowSpans {
         if d < 0 || d % self.step != 0 {
             return Span::EMPTY;
         }
-        self.spans.get((d / self.step) as usize).copied().unwrap_or(Span::EMPTY)
+        self.spans
+            .get((d / self.step) as usize)
+            .copied()
+            .unwrap_or(Span::EMPTY)
     }
 
     /// The image row of entry `i`.
@@ -161,7 +164,13 @@ fn fmax(a: f64, b: f64) -> f64 {
 /// in `rows`.
 #[inline]
 fn overlap(rows: (i32, i32), first: i32, step: i32, n: usize) -> std::ops::Range<usize> {
-    let up = |v: i32| if v <= 0 { 0 } else { ((v + step - 1) / step) as usize };
+    let up = |v: i32| {
+        if v <= 0 {
+            0
+        } else {
+            ((v + step - 1) / step) as usize
+        }
+    };
     let a = up(rows.0 - first).min(n);
     let b = up(rows.1 - first).min(n);
     a..b.max(a)
@@ -455,7 +464,11 @@ impl Scanner {
         let step = step.max(1);
         let (first, end) = self.row_range(roi);
         let first = first + (step - first.rem_euclid(step)) % step;
-        let n = if end > first { ((end - first + step - 1) / step) as usize } else { 0 };
+        let n = if end > first {
+            ((end - first + step - 1) / step) as usize
+        } else {
+            0
+        };
         out.y0 = first;
         out.step = step;
         out.lo.clear();
@@ -464,11 +477,21 @@ impl Scanner {
         out.hi.resize(n, f64::NEG_INFINITY);
         if let Some(q) = &self.quad {
             let r = overlap(q.rows, first, step, n);
-            q.set(first + r.start as i32 * step, step, &mut out.lo[r.clone()], &mut out.hi[r]);
+            q.set(
+                first + r.start as i32 * step,
+                step,
+                &mut out.lo[r.clone()],
+                &mut out.hi[r],
+            );
         }
         for e in self.ellipses.iter().flatten() {
             let r = overlap(e.rows, first, step, n);
-            e.widen(first + r.start as i32 * step, step, &mut out.lo[r.clone()], &mut out.hi[r]);
+            e.widen(
+                first + r.start as i32 * step,
+                step,
+                &mut out.lo[r.clone()],
+                &mut out.hi[r],
+            );
         }
         out.spans.clear();
         out.spans.extend(

@@ -6,7 +6,9 @@ use nalgebra::{Vector2, Vector3};
 use proptest::prelude::*;
 use upperpose_core::image::{FrameView, SkinPoints};
 use upperpose_core::search::{fit_frame, FrameFit, FrameRequest, Mode, SearchConfig};
-use upperpose_core::{skeleton_from_pose, BitMask, BodyModel, BodyRaster, Camera, Dof, Joint, Pose, Roi};
+use upperpose_core::{
+    skeleton_from_pose, BitMask, BodyModel, BodyRaster, Camera, Dof, Joint, Pose, Roi,
+};
 
 const W: u32 = 640;
 const H: u32 = 480;
@@ -27,8 +29,16 @@ fn dilate(m: &BitMask) -> Vec<u64> {
     for r in 0..h {
         for k in 0..s {
             let w = m.words[r * s + k];
-            let left = if k > 0 { m.words[r * s + k - 1] >> 63 } else { 0 };
-            let right = if k + 1 < s { m.words[r * s + k + 1] << 63 } else { 0 };
+            let left = if k > 0 {
+                m.words[r * s + k - 1] >> 63
+            } else {
+                0
+            };
+            let right = if k + 1 < s {
+                m.words[r * s + k + 1] << 63
+            } else {
+                0
+            };
             rows[r * s + k] = w | (w << 1) | left | (w >> 1) | right;
         }
     }
@@ -60,7 +70,11 @@ fn features_of(pose: &Pose, root: &Vector3<f64>, body: &BodyModel, camera: &Came
         edge: dilate(&contour),
         motion: vec![0; contour.words.len()],
         skin: SkinPoints {
-            points: [point(Joint::Head), point(Joint::RightHand), point(Joint::LeftHand)],
+            points: [
+                point(Joint::Head),
+                point(Joint::RightHand),
+                point(Joint::LeftHand),
+            ],
         },
     }
 }
@@ -69,7 +83,12 @@ fn camera() -> Camera {
     Camera::perspective(640.0, 319.5, 239.5).unwrap()
 }
 
-fn request<'a>(f: &'a Features, prediction: Pose, root: Vector3<f64>, mode: Mode) -> FrameRequest<'a> {
+fn request<'a>(
+    f: &'a Features,
+    prediction: Pose,
+    root: Vector3<f64>,
+    mode: Mode,
+) -> FrameRequest<'a> {
     FrameRequest {
         frame: FrameView::new(W, H, &f.sil, &f.edge, &f.motion, f.skin).unwrap(),
         prediction,
@@ -86,7 +105,10 @@ fn request<'a>(f: &'a Features, prediction: Pose, root: Vector3<f64>, mode: Mode
 
 fn joints_2d(pose: &Pose, root: &Vector3<f64>) -> Vec<Vector2<f64>> {
     let skel = skeleton_from_pose(pose, root, &BodyModel::default());
-    skel.joints().iter().map(|j| camera().project(j).unwrap()).collect()
+    skel.joints()
+        .iter()
+        .map(|j| camera().project(j).unwrap())
+        .collect()
 }
 
 fn mean_error(fit: &FrameFit, truth: &Pose, root: &Vector3<f64>) -> f64 {
@@ -139,7 +161,11 @@ fn the_cost_is_lowest_at_the_true_pose() {
             for delta in [-0.08, 0.08] {
                 let mut p = truth;
                 p.set(dof, truth.get(dof) + delta);
-                let moved = joints_2d(&p, &root).iter().zip(&truth_joints).map(|(a, b)| (a - b).norm()).fold(0.0, f64::max);
+                let moved = joints_2d(&p, &root)
+                    .iter()
+                    .zip(&truth_joints)
+                    .map(|(a, b)| (a - b).norm())
+                    .fold(0.0, f64::max);
                 if moved < 3.0 || !config.limits.contains(&p) {
                     continue;
                 }
@@ -162,13 +188,27 @@ fn fitting_from_a_noisy_prediction_recovers_the_joints() {
         for (i, dof) in Dof::ALL.iter().enumerate() {
             // A fixed pattern of offsets of up to 0.1 rad, inside the trajectory windows.
             let sign = if (i + k) % 2 == 0 { 1.0 } else { -1.0 };
-            noisy.set(*dof, truth.get(*dof) + sign * 0.04 * (1 + (i + k) % 3) as f64 * 0.85);
+            noisy.set(
+                *dof,
+                truth.get(*dof) + sign * 0.04 * (1 + (i + k) % 3) as f64 * 0.85,
+            );
         }
         let fit = fit_frame(&request(&f, noisy, root, Mode::Trajectory), &config).unwrap();
-        let before = mean_error(&FrameFit { pose: noisy, root, ..fit.clone() }, truth, &root);
+        let before = mean_error(
+            &FrameFit {
+                pose: noisy,
+                root,
+                ..fit.clone()
+            },
+            truth,
+            &root,
+        );
         let after = mean_error(&fit, truth, &root);
         worst = worst.max(after);
-        assert!(after < 3.0, "pose {k}: mean joint error {after:.2} px (prediction had {before:.2})");
+        assert!(
+            after < 3.0,
+            "pose {k}: mean joint error {after:.2} px (prediction had {before:.2})"
+        );
     }
     eprintln!("worst mean joint error {worst:.2} px");
 }
@@ -179,14 +219,22 @@ fn root_refinement_corrects_an_offset_root_when_enabled() {
     let truth = test_poses()[2];
     let f = features_of(&truth, &root, &BodyModel::default(), &camera());
     let off = root + Vector3::new(0.012, -0.01, 0.0);
-    let plain = fit_frame(&request(&f, truth, off, Mode::Trajectory), &SearchConfig::default()).unwrap();
+    let plain = fit_frame(
+        &request(&f, truth, off, Mode::Trajectory),
+        &SearchConfig::default(),
+    )
+    .unwrap();
     let config = SearchConfig {
         root_window: 0.02,
         ..SearchConfig::default()
     };
     let refined = fit_frame(&request(&f, truth, off, Mode::Trajectory), &config).unwrap();
     assert_eq!(plain.root, off);
-    assert!((refined.root - root).norm() < 0.004, "{:?}", refined.root - root);
+    assert!(
+        (refined.root - root).norm() < 0.004,
+        "{:?}",
+        refined.root - root
+    );
     assert!(mean_error(&refined, &truth, &root) < mean_error(&plain, &truth, &root));
 }
 

@@ -82,16 +82,24 @@ impl PySearchConfig {
             return Err(PyValueError::new_err("particles must be >= 1, got 0"));
         }
         if !(c.swarm.c0 > 0.0 && c.swarm.c0.is_finite()) {
-            return Err(PyValueError::new_err(format!("c0 must be > 0, got {}", c.swarm.c0)));
+            return Err(PyValueError::new_err(format!(
+                "c0 must be > 0, got {}",
+                c.swarm.c0
+            )));
         }
         if !(c.swarm.max_speed > 0.0 && c.swarm.max_speed <= 1.0) {
-            return Err(PyValueError::new_err(format!("max_speed must be in (0, 1], got {}", c.swarm.max_speed)));
+            return Err(PyValueError::new_err(format!(
+                "max_speed must be in (0, 1], got {}",
+                c.swarm.max_speed
+            )));
         }
         if let Some(w) = weights {
             let mut x = c.weights;
             for (name, value) in w {
                 if !value.is_finite() {
-                    return Err(PyValueError::new_err(format!("weights[{name:?}] must be finite, got {value}")));
+                    return Err(PyValueError::new_err(format!(
+                        "weights[{name:?}] must be finite, got {value}"
+                    )));
                 }
                 let slot = match name.as_str() {
                     "sil" => &mut x.sil,
@@ -115,7 +123,9 @@ impl PySearchConfig {
             "anatomical" => JointLimits::anatomical(),
             "thesis" => JointLimits::thesis(),
             other => {
-                return Err(PyValueError::new_err(format!("limits must be 'anatomical' or 'thesis', got {other:?}")))
+                return Err(PyValueError::new_err(format!(
+                    "limits must be 'anatomical' or 'thesis', got {other:?}"
+                )))
             }
         };
         c.non_penetration = non_penetration;
@@ -126,18 +136,26 @@ impl PySearchConfig {
         c.seed = seed;
         for (name, v, slot) in [
             ("root_window", root_window, &mut c.root_window),
-            ("initial_root_window", initial_root_window, &mut c.initial_root_window),
+            (
+                "initial_root_window",
+                initial_root_window,
+                &mut c.initial_root_window,
+            ),
         ] {
             if let Some(v) = v {
                 if !(v >= 0.0 && v.is_finite()) {
-                    return Err(PyValueError::new_err(format!("{name} must be >= 0, got {v}")));
+                    return Err(PyValueError::new_err(format!(
+                        "{name} must be >= 0, got {v}"
+                    )));
                 }
                 *slot = v;
             }
         }
         if let Some((a, b, d)) = row_steps {
             if a < 1 || b < 1 || d < 1 {
-                return Err(PyValueError::new_err(format!("row_steps must all be >= 1, got ({a}, {b}, {d})")));
+                return Err(PyValueError::new_err(format!(
+                    "row_steps must all be >= 1, got ({a}, {b}, {d})"
+                )));
             }
             c.row_steps = [a, b, d];
         }
@@ -201,7 +219,10 @@ impl PySearchConfig {
     #[getter]
     fn weights(&self) -> HashMap<&'static str, f64> {
         let w: CostWeights = self.inner.weights;
-        TERM_NAMES.into_iter().zip([w.sil, w.edge, w.motion, w.skin, w.arm, w.ratio]).collect()
+        TERM_NAMES
+            .into_iter()
+            .zip([w.sil, w.edge, w.motion, w.skin, w.arm, w.ratio])
+            .collect()
     }
 
     fn __repr__(&self) -> String {
@@ -247,7 +268,9 @@ impl PyFrameFit {
     #[getter]
     fn joints_2d<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         let flat: Vec<f64> = self.joints_2d.iter().flat_map(|p| [p.x, p.y]).collect();
-        Ok(PyArray1::from_vec(py, flat).reshape([self.joints_2d.len(), 2])?.into_any())
+        Ok(PyArray1::from_vec(py, flat)
+            .reshape([self.joints_2d.len(), 2])?
+            .into_any())
     }
     /// Total cost: the sum of the three stages' weighted costs at the fit.
     #[getter]
@@ -276,11 +299,19 @@ impl PyFrameFit {
     }
 
     fn __repr__(&self) -> String {
-        format!("FrameFit(cost={:.4}, evaluations={})", self.fit.cost, self.fit.evaluations)
+        format!(
+            "FrameFit(cost={:.4}, evaluations={})",
+            self.fit.cost, self.fit.evaluations
+        )
     }
 }
 
-fn plane<'a>(name: &str, array: &'a PyReadonlyArray2<'_, u64>, height: usize, stride: usize) -> PyResult<&'a [u64]> {
+fn plane<'a>(
+    name: &str,
+    array: &'a PyReadonlyArray2<'_, u64>,
+    height: usize,
+    stride: usize,
+) -> PyResult<&'a [u64]> {
     let shape = array.shape();
     if shape != [height, stride] {
         return Err(PyValueError::new_err(format!(
@@ -342,9 +373,14 @@ pub fn fit_frame_bits_py(
         plane("motion", &motion, height, stride)?,
     );
     if points.shape() != [3, 2] {
-        return Err(PyValueError::new_err(format!("points must have shape (3, 2), got {:?}", points.shape())));
+        return Err(PyValueError::new_err(format!(
+            "points must have shape (3, 2), got {:?}",
+            points.shape()
+        )));
     }
-    let pts = points.as_slice().map_err(|_| PyTypeError::new_err("points must be a C-contiguous float64 array"))?;
+    let pts = points
+        .as_slice()
+        .map_err(|_| PyTypeError::new_err("points must be a C-contiguous float64 array"))?;
     let mut skin = SkinPoints::default();
     for (k, slot) in skin.points.iter_mut().enumerate() {
         let (x, y) = (pts[2 * k], pts[2 * k + 1]);
@@ -353,7 +389,11 @@ pub fn fit_frame_bits_py(
     let mode = match mode {
         "trajectory" => Mode::Trajectory,
         "initial" => Mode::Initial,
-        other => return Err(PyValueError::new_err(format!("mode must be 'trajectory' or 'initial', got {other:?}"))),
+        other => {
+            return Err(PyValueError::new_err(format!(
+                "mode must be 'trajectory' or 'initial', got {other:?}"
+            )))
+        }
     };
     let mut flags = [false; 3];
     for name in &search {
@@ -367,7 +407,8 @@ pub fn fit_frame_bits_py(
             }
         }
     }
-    let height = u32::try_from(height).map_err(|_| PyValueError::new_err("features are too tall"))?;
+    let height =
+        u32::try_from(height).map_err(|_| PyValueError::new_err("features are too tall"))?;
     let frame = FrameView::new(width, height, s, e, m, skin).py()?;
     let req = FrameRequest {
         frame,
@@ -388,7 +429,11 @@ pub fn fit_frame_bits_py(
             let joints = skeleton_from_pose(&fit.pose, &fit.root, &req.body).joints();
             let j2: Vec<Vector2<f64>> = joints
                 .iter()
-                .map(|j| req.camera.project(j).unwrap_or(Vector2::new(f64::NAN, f64::NAN)))
+                .map(|j| {
+                    req.camera
+                        .project(j)
+                        .unwrap_or(Vector2::new(f64::NAN, f64::NAN))
+                })
                 .collect();
             Ok((fit, joints.to_vec(), j2))
         })

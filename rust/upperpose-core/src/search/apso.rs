@@ -113,7 +113,11 @@ where
     }
 
     let evaluate = |x: &[f64]| -> Vec<f64> {
-        pool.install(|| x.par_chunks(d.max(1)).map_init(&init, |scratch, p| cost(scratch, p)).collect())
+        pool.install(|| {
+            x.par_chunks(d.max(1))
+                .map_init(&init, |scratch, p| cost(scratch, p))
+                .collect()
+        })
     };
     let mut costs = evaluate(&x);
     let mut evaluations = n;
@@ -131,7 +135,8 @@ where
             for k in 0..d {
                 let j = i * d + k;
                 let gk = pbest[g * d + k];
-                let mut vel = c * v[j] + c * r[2 * j] * (pbest[j] - x[j]) + c * r[2 * j + 1] * (gk - x[j]);
+                let mut vel =
+                    c * v[j] + c * r[2 * j] * (pbest[j] - x[j]) + c * r[2 * j + 1] * (gk - x[j]);
                 vel = vel.clamp(-vmax[k], vmax[k]);
                 let target = x[j] + vel;
                 let placed = bounds[k].clamp(target);
@@ -175,7 +180,13 @@ mod tests {
     use super::*;
     use crate::parallel::pool;
 
-    fn run(bounds: &[DofRange], config: &SwarmConfig, seed: u64, threads: usize, f: fn(&[f64]) -> f64) -> SwarmResult {
+    fn run(
+        bounds: &[DofRange],
+        config: &SwarmConfig,
+        seed: u64,
+        threads: usize,
+        f: fn(&[f64]) -> f64,
+    ) -> SwarmResult {
         let mut rng = Rng::for_stage(seed, 0, 0);
         let p = pool(threads).unwrap();
         minimise(bounds, config, &[], &mut rng, &p, || (), |_, x| f(x))
@@ -229,7 +240,9 @@ mod tests {
             iterations: 300,
             ..SwarmConfig::default()
         };
-        let costs: Vec<f64> = (0..10).map(|s| run(&boxes(5, -5.12, 5.12), &cfg, s, 1, rastrigin).cost).collect();
+        let costs: Vec<f64> = (0..10)
+            .map(|s| run(&boxes(5, -5.12, 5.12), &cfg, s, 1, rastrigin).cost)
+            .collect();
         assert!(costs.iter().all(|&c| c < 5.0), "{costs:?}");
         assert!(median(costs.clone()) < 2.5, "{costs:?}");
     }
@@ -242,7 +255,9 @@ mod tests {
             iterations: 400,
             ..SwarmConfig::default()
         };
-        let costs: Vec<f64> = (0..5).map(|s| run(&boxes(13, -5.12, 5.12), &cfg, s, 2, rastrigin).cost).collect();
+        let costs: Vec<f64> = (0..5)
+            .map(|s| run(&boxes(13, -5.12, 5.12), &cfg, s, 2, rastrigin).cost)
+            .collect();
         assert!(costs.iter().all(|&c| c < 35.0), "{costs:?}");
         assert!(median(costs.clone()) < 25.0, "{costs:?}");
     }
@@ -267,10 +282,18 @@ mod tests {
         let mut rng = Rng::for_stage(5, 0, 0);
         let p = pool(1).unwrap();
         let seen = std::sync::Mutex::new(Vec::new());
-        let res = minimise(&bounds, &SwarmConfig::default(), &[vec![0.1]], &mut rng, &p, || (), |_, x| {
-            seen.lock().unwrap().push(x[0]);
-            (x[0] - 2.6).abs()
-        });
+        let res = minimise(
+            &bounds,
+            &SwarmConfig::default(),
+            &[vec![0.1]],
+            &mut rng,
+            &p,
+            || (),
+            |_, x| {
+                seen.lock().unwrap().push(x[0]);
+                (x[0] - 2.6).abs()
+            },
+        );
         assert!((res.best[0] - 2.6).abs() < 1e-3, "{:?}", res.best);
         let seen = seen.into_inner().unwrap();
         assert!(seen.iter().all(|&x| gap.contains(x)));
@@ -285,7 +308,10 @@ mod tests {
         };
         assert!((coefficient(&cfg, 10) - 0.3).abs() < 1e-12);
         assert!((coefficient(&cfg, 5) - 0.3 * 0.5f64.exp()).abs() < 1e-12);
-        let flat = SwarmConfig { annealing: false, ..cfg };
+        let flat = SwarmConfig {
+            annealing: false,
+            ..cfg
+        };
         assert_eq!(coefficient(&flat, 1), coefficient(&flat, 10));
     }
 }

@@ -44,19 +44,36 @@ fn inside_torso(p: &Vector3<f64>, skel: &Skeleton, body: &BodyModel) -> bool {
 }
 
 /// Closest distance between two segments.
-fn segment_distance(p0: &Vector3<f64>, p1: &Vector3<f64>, q0: &Vector3<f64>, q1: &Vector3<f64>) -> f64 {
+fn segment_distance(
+    p0: &Vector3<f64>,
+    p1: &Vector3<f64>,
+    q0: &Vector3<f64>,
+    q1: &Vector3<f64>,
+) -> f64 {
     let (d1, d2, r) = (p1 - p0, q1 - q0, p0 - q0);
     let (a, e, f) = (d1.dot(&d1), d2.dot(&d2), d2.dot(&r));
     let (c, b) = (d1.dot(&r), d1.dot(&d2));
     let denom = a * e - b * b;
-    let mut s = if denom > 1e-12 { ((b * f - c * e) / denom).clamp(0.0, 1.0) } else { 0.0 };
+    let mut s = if denom > 1e-12 {
+        ((b * f - c * e) / denom).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
     let mut t = if e > 1e-12 { (b * s + f) / e } else { 0.0 };
     if t < 0.0 {
         t = 0.0;
-        s = if a > 1e-12 { (-c / a).clamp(0.0, 1.0) } else { 0.0 };
+        s = if a > 1e-12 {
+            (-c / a).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
     } else if t > 1.0 {
         t = 1.0;
-        s = if a > 1e-12 { ((b - c) / a).clamp(0.0, 1.0) } else { 0.0 };
+        s = if a > 1e-12 {
+            ((b - c) / a).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
     }
     ((p0 + d1 * s) - (q0 + d2 * t)).norm()
 }
@@ -70,7 +87,10 @@ pub fn arm_penetrates(skel: &Skeleton, body: &BodyModel, side: Side) -> bool {
     let arm = skel.arm(side);
     // The shoulder itself sits on the torso's edge; test from a little below it.
     let start = arm.shoulder + (arm.elbow - arm.shoulder) * 0.2;
-    if along(&start, &arm.elbow, 5).chain(along(&arm.elbow, &arm.hand, 7)).any(|p| inside_torso(&p, skel, body)) {
+    if along(&start, &arm.elbow, 5)
+        .chain(along(&arm.elbow, &arm.hand, 7))
+        .any(|p| inside_torso(&p, skel, body))
+    {
         return true;
     }
     let other = skel.arm(match side {
@@ -79,7 +99,8 @@ pub fn arm_penetrates(skel: &Skeleton, body: &BodyModel, side: Side) -> bool {
     });
     let r_up = (body.upper_arm_radii[0] + body.upper_arm_radii[1]) / 2.0;
     let r_low = (body.lower_arm_radii[0] + body.lower_arm_radii[1]) / 2.0;
-    let segments = |a: &crate::kinematics::ArmFrames| [(a.shoulder, a.elbow, r_up), (a.elbow, a.hand, r_low)];
+    let segments =
+        |a: &crate::kinematics::ArmFrames| [(a.shoulder, a.elbow, r_up), (a.elbow, a.hand, r_low)];
     for (p0, p1, rp) in segments(arm) {
         for (q0, q1, rq) in segments(other) {
             if segment_distance(&p0, &p1, &q0, &q1) < 0.5 * (rp + rq) {
@@ -127,7 +148,10 @@ mod tests {
         let b = BodyModel::default();
         let root = Vector3::new(0.0, 0.0, 2.5);
         let mut p = Pose::default();
-        for (x_up, y_up, x_down) in [(Dof::RightXUp, Dof::RightYUp, Dof::RightXDown), (Dof::LeftXUp, Dof::LeftYUp, Dof::LeftXDown)] {
+        for (x_up, y_up, x_down) in [
+            (Dof::RightXUp, Dof::RightYUp, Dof::RightXDown),
+            (Dof::LeftXUp, Dof::LeftYUp, Dof::LeftXDown),
+        ] {
             p.set(x_up, 0.5);
             p.set(y_up, 0.8);
             p.set(x_down, 1.6);
@@ -160,9 +184,19 @@ mod tests {
     fn segment_distance_is_exact_for_known_cases() {
         let o = Vector3::zeros();
         let x = Vector3::x();
-        let d = segment_distance(&o, &x, &Vector3::new(0.5, 1.0, -1.0), &Vector3::new(0.5, 1.0, 1.0));
+        let d = segment_distance(
+            &o,
+            &x,
+            &Vector3::new(0.5, 1.0, -1.0),
+            &Vector3::new(0.5, 1.0, 1.0),
+        );
         assert!((d - 1.0).abs() < 1e-12);
-        let d = segment_distance(&o, &x, &Vector3::new(2.0, 0.0, 0.0), &Vector3::new(3.0, 0.0, 0.0));
+        let d = segment_distance(
+            &o,
+            &x,
+            &Vector3::new(2.0, 0.0, 0.0),
+            &Vector3::new(3.0, 0.0, 0.0),
+        );
         assert!((d - 1.0).abs() < 1e-12);
     }
 }

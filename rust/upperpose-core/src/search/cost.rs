@@ -159,7 +159,11 @@ impl StageRegion {
                 feature_area,
             }
         });
-        let has_motion = r.words.iter().zip(frame.motion.words).any(|(a, b)| a & b != 0);
+        let has_motion = r
+            .words
+            .iter()
+            .zip(frame.motion.words)
+            .any(|(a, b)| a & b != 0);
         StageRegion {
             roi,
             has_motion,
@@ -214,7 +218,12 @@ pub fn evaluate(
 
     // Area terms over the union of the pieces, row by row.
     let (mut free, mut sil_free, mut arm_out, mut arm_feat) = (0u32, 0u32, 0u32, 0u32);
-    let first = spans.iter().filter(|s| !s.spans.is_empty()).map(|s| s.y0).min().unwrap_or(0);
+    let first = spans
+        .iter()
+        .filter(|s| !s.spans.is_empty())
+        .map(|s| s.y0)
+        .min()
+        .unwrap_or(0);
     let end = spans.iter().map(|s| s.y(s.spans.len())).max().unwrap_or(0);
     let mut row: [Span; 4] = [Span::EMPTY; 4];
     for y in (first..end).step_by(step as usize) {
@@ -262,7 +271,8 @@ pub fn evaluate(
             let in0 = (c.x0 + 1).max(up.x0).max(down.x0);
             let in1 = (c.x1 - 1).min(up.x1).min(down.x1);
             let y = s.y(i);
-            let add = |a: i32, b: i32, plane: &BitPlane| count_run(plane.words, plane.stride, y, a, b);
+            let add =
+                |a: i32, b: i32, plane: &BitPlane| count_run(plane.words, plane.stride, y, a, b);
             let runs = if up.is_empty() || down.is_empty() || in0 >= in1 {
                 [(c.x0, c.x1), (0, 0)]
             } else {
@@ -295,10 +305,9 @@ pub fn evaluate(
         edge: f64::from(edge) / contour,
         motion: f64::from(motion) / contour,
         skin: skin_sum / shoulder_px.max(1.0),
-        arm: region
-            .arm
-            .as_ref()
-            .map_or(0.0, |a| (a.feature_area + arm_out - 2.0 * arm_feat) / region.area),
+        arm: region.arm.as_ref().map_or(0.0, |a| {
+            (a.feature_area + arm_out - 2.0 * arm_feat) / region.area
+        }),
         ratio: (model_area / region.sil_area.max(1.0) - 1.0).abs(),
     }
 }

@@ -157,10 +157,17 @@ pub struct FrameFit {
 
 /// Pixels per metre at the root's depth.
 fn pixels_per_metre(camera: &Camera, root: &Vector3<f64>) -> f64 {
-    camera.affine_scale().unwrap_or(camera.focal / root.z.max(1e-6))
+    camera
+        .affine_scale()
+        .unwrap_or(camera.focal / root.z.max(1e-6))
 }
 
-fn outlines(parts: &[Part], skel: &Skeleton, body: &BodyModel, camera: &Camera) -> Option<Vec<Outline>> {
+fn outlines(
+    parts: &[Part],
+    skel: &Skeleton,
+    body: &BodyModel,
+    camera: &Camera,
+) -> Option<Vec<Outline>> {
     parts
         .iter()
         .map(|&p| outline_of_solid(&solid_of_part(p, skel, body), camera))
@@ -168,7 +175,14 @@ fn outlines(parts: &[Part], skel: &Skeleton, body: &BodyModel, camera: &Camera) 
 }
 
 /// A full-frame mask of some parts of the posed body.
-fn mask_of(parts: &[Part], skel: &Skeleton, body: &BodyModel, camera: &Camera, width: u32, height: u32) -> BitMask {
+fn mask_of(
+    parts: &[Part],
+    skel: &Skeleton,
+    body: &BodyModel,
+    camera: &Camera,
+    width: u32,
+    height: u32,
+) -> BitMask {
     let full = Roi::full(width, height);
     let mut m = BitMask::new(full);
     for &p in parts {
@@ -186,9 +200,14 @@ fn stage_roi(stage: Stage, req: &FrameRequest, skel: &Skeleton, half: &[f64]) ->
     let ppm = pixels_per_metre(&req.camera, &skel.root);
     let b = &req.body;
     let reach_m = match (stage, req.mode) {
-        (Stage::Torso, Mode::Trajectory) => half.iter().take(3).sum::<f64>() * 0.6 + half.get(3).copied().unwrap_or(0.0),
+        (Stage::Torso, Mode::Trajectory) => {
+            half.iter().take(3).sum::<f64>() * 0.6 + half.get(3).copied().unwrap_or(0.0)
+        }
         (Stage::Torso, Mode::Initial) => 0.45 + half.get(3).copied().unwrap_or(0.0),
-        (_, Mode::Trajectory) => (half[0] + half[1] + half[2]) * (b.upper_arm_length + b.lower_arm_length) + half[3] * b.lower_arm_length,
+        (_, Mode::Trajectory) => {
+            (half[0] + half[1] + half[2]) * (b.upper_arm_length + b.lower_arm_length)
+                + half[3] * b.lower_arm_length
+        }
         (_, Mode::Initial) => 0.0,
     };
     let (mut x0, mut y0, mut x1, mut y1) = match (stage.side(), req.mode) {
@@ -199,10 +218,20 @@ fn stage_roi(stage: Stage, req: &FrameRequest, skel: &Skeleton, half: &[f64]) ->
             (s.x - r, s.y - r, s.x + r, s.y + r)
         }
         _ => {
-            let mut acc = (f64::INFINITY, f64::INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY);
+            let mut acc = (
+                f64::INFINITY,
+                f64::INFINITY,
+                f64::NEG_INFINITY,
+                f64::NEG_INFINITY,
+            );
             for o in outlines(stage.parts(), skel, b, &req.camera)? {
                 if let Some(bb) = o.bounds() {
-                    acc = (acc.0.min(bb.0), acc.1.min(bb.1), acc.2.max(bb.2), acc.3.max(bb.3));
+                    acc = (
+                        acc.0.min(bb.0),
+                        acc.1.min(bb.1),
+                        acc.2.max(bb.2),
+                        acc.3.max(bb.3),
+                    );
                 }
             }
             acc
@@ -213,7 +242,7 @@ fn stage_roi(stage: Stage, req: &FrameRequest, skel: &Skeleton, half: &[f64]) ->
     y0 = (y0 - pad).floor().max(0.0);
     x1 = (x1 + pad).ceil().min(f64::from(req.frame.width));
     y1 = (y1 + pad).ceil().min(f64::from(req.frame.height));
-    (x1 > x0 && y1 > y0).then(|| Roi {
+    (x1 > x0 && y1 > y0).then_some(Roi {
         x: x0 as i32,
         y: y0 as i32,
         width: (x1 - x0) as u32,
@@ -272,12 +301,21 @@ impl StageSetup<'_> {
             .into_iter()
             .collect();
         let step = self.config.row_steps[self.stage as usize];
-        Some(evaluate(&self.region, &req.frame, &scanners, &skin, self.shoulder_px, step, scratch))
+        Some(evaluate(
+            &self.region,
+            &req.frame,
+            &scanners,
+            &skin,
+            self.shoulder_px,
+            step,
+            scratch,
+        ))
     }
 
     fn cost(&self, x: &[f64], scratch: &mut Scratch) -> f64 {
         let (p, r) = self.candidate(x);
-        self.terms(&p, &r, scratch).map_or(f64::INFINITY, |t| t.total(&self.config.weights))
+        self.terms(&p, &r, scratch)
+            .map_or(f64::INFINITY, |t| t.total(&self.config.weights))
     }
 }
 
@@ -294,7 +332,11 @@ fn run_stage(
     let b = &req.body;
     let skel = skeleton_from_pose(pose, root, b);
     let scale = req.window_scale * req.frame_interval * 30.0;
-    let mut half: Vec<f64> = stage.dofs().iter().map(|&d| constraints::window_half_width(d) * scale).collect();
+    let mut half: Vec<f64> = stage
+        .dofs()
+        .iter()
+        .map(|&d| constraints::window_half_width(d) * scale)
+        .collect();
     let root_half = match req.mode {
         Mode::Initial => config.initial_root_window,
         Mode::Trajectory => config.root_window * req.window_scale,
@@ -306,11 +348,30 @@ fn run_stage(
     let Some(roi) = stage_roi(stage, req, &skel, &half) else {
         return (CostTerms::default(), 0); // the part is out of the image: keep it as predicted
     };
-    let others: Vec<Part> = Part::ALL.iter().copied().filter(|p| !stage.parts().contains(p)).collect();
-    let base = mask_of(&others, &skel, b, &req.camera, req.frame.width, req.frame.height);
+    let others: Vec<Part> = Part::ALL
+        .iter()
+        .copied()
+        .filter(|p| !stage.parts().contains(p))
+        .collect();
+    let base = mask_of(
+        &others,
+        &skel,
+        b,
+        &req.camera,
+        req.frame.width,
+        req.frame.height,
+    );
     // The Arm term is only counted when it is weighed.
-    let torso = (stage.side().is_some() && config.weights.arm != 0.0)
-        .then(|| mask_of(Stage::Torso.parts(), &skel, b, &req.camera, req.frame.width, req.frame.height));
+    let torso = (stage.side().is_some() && config.weights.arm != 0.0).then(|| {
+        mask_of(
+            Stage::Torso.parts(),
+            &skel,
+            b,
+            &req.camera,
+            req.frame.width,
+            req.frame.height,
+        )
+    });
     let region = StageRegion::new(&req.frame, roi, &base, torso.as_ref());
 
     let mut bounds: Vec<DofRange> = stage
@@ -359,14 +420,20 @@ fn run_stage(
             (*pose, *root) = setup.candidate(&result.best);
         }
     }
-    let terms = setup.terms(pose, root, &mut Scratch::default()).unwrap_or_default();
+    let terms = setup
+        .terms(pose, root, &mut Scratch::default())
+        .unwrap_or_default();
     (terms, evaluations)
 }
 
 fn check(req: &FrameRequest) -> Result<()> {
     positive("window_scale", req.window_scale)?;
     positive("frame_interval", req.frame_interval)?;
-    for (name, v) in [("root[0]", req.root.x), ("root[1]", req.root.y), ("root[2]", req.root.z)] {
+    for (name, v) in [
+        ("root[0]", req.root.x),
+        ("root[1]", req.root.y),
+        ("root[2]", req.root.z),
+    ] {
         finite(name, v)?;
     }
     if req.camera.is_perspective() && req.root.z <= 0.0 {

@@ -19,14 +19,24 @@ fn splitmix64(state: &mut u64) -> u64 {
 impl Rng {
     /// The stream for one search: every (seed, frame, stage) gets its own.
     pub fn for_stage(seed: u64, frame: u64, stage: u64) -> Self {
-        let mut st = seed ^ frame.wrapping_mul(0xD6E8_FEB8_6659_FD93) ^ stage.wrapping_mul(0xA076_1D64_78BD_642F);
-        let s = [splitmix64(&mut st), splitmix64(&mut st), splitmix64(&mut st), splitmix64(&mut st)];
+        let mut st = seed
+            ^ frame.wrapping_mul(0xD6E8_FEB8_6659_FD93)
+            ^ stage.wrapping_mul(0xA076_1D64_78BD_642F);
+        let s = [
+            splitmix64(&mut st),
+            splitmix64(&mut st),
+            splitmix64(&mut st),
+            splitmix64(&mut st),
+        ];
         Rng { s }
     }
 
     /// The next 64 random bits.
     pub fn next_u64(&mut self) -> u64 {
-        let result = self.s[0].wrapping_add(self.s[3]).rotate_left(23).wrapping_add(self.s[0]);
+        let result = self.s[0]
+            .wrapping_add(self.s[3])
+            .rotate_left(23)
+            .wrapping_add(self.s[0]);
         let t = self.s[1] << 17;
         self.s[2] ^= self.s[0];
         self.s[3] ^= self.s[1];

@@ -1,0 +1,169 @@
+"""`upperpose track`: track a video and write the poses (SPEC 9), a CSV and an overlay video."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+import warnings
+from pathlib import Path
+
+NAME = "track"
+HELP = "track the upper body in a video: poses as JSON (SPEC 9), optionally CSV and an overlay video"
+
+
+def add_search_arguments(p: argparse.ArgumentParser) -> None:
+    """Search options shared by track, demo and bench."""
+    p.add_argument("--particles", type=int, default=None, help="particles per search stage (default: the search's)")
+    p.add_argument("--iterations", type=int, default=None, help="swarm iterations per stage (default: the search's)")
+    p.add_argument(
+        "--threads", type=int, default=None, help="worker threads (default: UPPERPOSE_NUM_THREADS or all cores)"
+    )
+    p.add_argument("--seed", type=int, default=0, help="random seed (default 0): the same seed gives the same poses")
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    """Options of the subcommand."""
+    p.add_argument("video", help="video file to track")
+    p.add_argument("--background", metavar="IMAGE", help="clean plate: a photo of the empty scene (recommended)")
+    p.add_argument("--focal", type=float, metavar="PX", help="focal length in pixels (default: the image width)")
+    p.add_argument("-o", "--output", required=True, metavar="OUT.json", help="pose file to write (SPEC 9)")
+    p.add_argument("--csv", metavar="OUT.csv", help="also write one CSV row per frame")
+    p.add_argument("--overlay", metavar="OUT.mp4", help="also write the video with the fitted model drawn over it")
+    add_search_arguments(p)
+    p.add_argument("--no-skip", action="store_true", help="search every part every frame (ignore the motion flags)")
+    p.add_argument("--quiet", action="store_true", help="no progress bar or summary")
+
+
+def tracker_config(args: argparse.Namespace):  # type: ignore[no-untyped-def]
+    """The TrackerConfig from the command-line options."""
+    from upperpose.tracker.tracker import TrackerConfig
+
+    for name in ("particles", "iterations", "threads"):
+        value = getattr(args, name, None)
+        if value is not None and value < 1:
+            raise ValueError(f"--{name} must be at least 1, got {value}")
+    return TrackerConfig(
+        particles=args.particles,
+        iterations=args.iterations,
+        threads=args.threads,
+        seed=args.seed,
+        skip_static=not getattr(args, "no_skip", False),
+    )
+
+
+def check_writable(*paths: str | None) -> None:
+    """Fails early, before any work, when an output's folder is missing or not writable."""
+    import os
+
+    for path in paths:
+        if path is None:
+            continue
+        p = Path(path)
+        folder = p.parent if str(p.parent) else Path(".")
+        if p.is_dir():
+            raise OSError(f"cannot write {p}: it is a folder")
+        if not folder.is_dir():
+            raise OSError(f"cannot write {p}: folder {folder} does not exist")
+        if not os.access(folder, os.W_OK):
+            raise OSError(f"cannot write {p}: folder {folder} is not writable")
+
+
+class Progress:
+    """A one-line progress bar on stderr (only when it is a terminal), with frames per second."""
+
+    def __init__(self, total: int | None, enabled: bool) -> None:
+        self.total, self.start, self.last = total, time.perf_counter(), 0.0
+        self.enabled = enabled and sys.stderr.isatty()
+
+    def update(self, done: int, status: str) -> None:
+        """Redraws at most ten times a second."""
+        now = time.perf_counter()
+        if not self.enabled or now - self.last < 0.1:
+            return
+        self.last = now
+        fps = done / max(now - self.start, 1e-9)
+        if self.total:
+            filled = int(30 * done / self.total)
+            bar = f"[{'#' * filled}{'.' * (30 - filled)}] {done}/{self.total}"
+        else:
+            bar = f"{done} frames"
+        sys.stderr.write(f"\r{bar}  {fps:5.1f} fps  {status:<12}")
+        sys.stderr.flush()
+
+    def finish(self) -> None:
+        """Ends the line."""
+        if self.enabled:
+            sys.stderr.write("\n")
+            sys.stderr.flush()
+
+
+def run(args: argparse.Namespace) -> int:
+    """Tracks the video; writes the outputs atomically, also after Ctrl-C."""
+    from upperpose.exceptions import UpperposeError
+    from upperpose.features import CleanPlateWarning
+    from upperpose.pipeline import VideoTracking
+    from upperpose.tracker.output import PoseRecorder
+    from upperpose.tracker.overlay import OverlayWriter, draw_overlay
+    from upperpose.tracker.state import LOST, NO_PERSON, TRACKED
+
+    check_writable(args.output, args.csv, args.overlay)
+    config = tracker_config(args)
+    started = time.perf_counter()
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", CleanPlateWarning)
+        run_ = VideoTracking(args.video, args.background, focal=args.focal, config=config)
+    if caught and not args.quiet:
+        print(f"upperpose track: warning: {caught[0].message}", file=sys.stderr)
+    recorder = PoseRecorder(
+        run_.reader.width,
+        run_.reader.height,
+        run_.fps,
+        source=Path(args.video).name,
+        seed=args.seed,
+        clean_plate=run_.clean_plate,
+    )
+    overlay = OverlayWriter(args.overlay, run_.reader.width, run_.reader.height, run_.fps) if args.overlay else None
+    progress = Progress(run_.reader.frame_count, not args.quiet)
+    interrupted = False
+    try:
+        for frame, result in run_.frames():
+            recorder.add(result)
+            if overlay is not None:
+                overlay.write(draw_overlay(frame, result, run_.camera, run_.tracker.body))
+            progress.update(recorder.frames, result.status)
+    except KeyboardInterrupt:
+        interrupted = True
+    finally:
+        progress.finish()
+        run_.close()
+        run_time = time.perf_counter() - started
+        written = [recorder.write_json(args.output, run_time)]
+        if args.csv:
+            written.append(recorder.write_csv(args.csv))
+        if overlay is not None:
+            kept = overlay.close()
+            if kept:
+                written.append(kept)
+    names = ", ".join(str(p) for p in written)
+    if interrupted:
+        print(f"upperpose track: interrupted after {recorder.frames} frames; wrote them to {names}", file=sys.stderr)
+        return 130
+    frames = recorder.frames
+    if frames == 0 or recorder.count(NO_PERSON) == frames:
+        raise UpperposeError(
+            f"no person found in {args.video} ({frames} frames): start-up needs a frontal face and the "
+            f"A-pose (arms straight, 30-40 degrees out); wrote an all-'no_person' {args.output}"
+        )
+    if not args.quiet:
+        tracked, lost = recorder.count(TRACKED), recorder.count(LOST)
+        first = next(r["frame"] for r in recorder.records if r["status"] in (TRACKED, LOST))
+        after = frames - first
+        print(
+            f"Tracked {args.video}: {frames} frames in {run_time:.1f} s ({frames / run_time:.1f} fps); "
+            f"start-up took {first} frames; of the {after} frames after it {tracked} were tracked "
+            f"({100 * tracked / max(after, 1):.1f} %) and {lost} lost; "
+            f"background from {'the clean plate' if run_.clean_plate else 'the video (estimated)'}; "
+            f"wrote {names}."
+        )
+    return 0

@@ -1,0 +1,296 @@
+"""Start-up (thesis §3.3, SPEC 6): find a frontal face, check the A-pose, measure the person.
+
+A person is present when OpenCV's frontal Haar cascade finds a face and three skin blobs (head,
+two hands) pass the geometry of Eq. 3.3.1-1: r_d = min(d1, d2) / max(d1, d2) >= 0.6 and
+3 <= d3 / face width <= 12. The face detector runs only while no person is tracked.
+
+Measuring (SPEC 2): the body model stays metric. The depth of the root comes from the width of
+the face box, whose metric size was measured on the synthetic development set (FACE_WIDTH_M);
+X and Y from the face centre. Starting from adult averages, the arm lengths are scaled by the
+ratio of the measured to the modelled shoulder-to-hand distance in the A-pose (mean of the two
+arms; when they disagree by more than 0.15 the one nearer 1; clamped to +-20 % so that one bad
+blob cannot make a giant). The shoulder width can be
+measured from the silhouette (`measure_body(silhouette=...)`) but is not by default (see there).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import cv2
+import numpy as np
+import numpy.typing as npt
+
+from upperpose.features import FeatureConfig, SkinBlob
+from upperpose.features.points import far_end, principal_direction, unit
+from upperpose.model import BodyModel, Camera, Pose, forward_kinematics, project, render_masks
+
+# Width of OpenCV's frontal-face box in metres, as found at 1.5x downscale on the dev set's
+# start-up frames (single frames vary by about +-8 %: use a median over several frames).
+FACE_WIDTH_M = 0.166
+# Joint indices (JOINT_NAMES order).
+HEAD, R_SHOULDER, L_SHOULDER, R_ELBOW, L_ELBOW, R_HAND, L_HAND = range(7)
+
+FaceBox = tuple[int, int, int, int]
+
+
+class FaceDetector:
+    """OpenCV's frontal-face Haar cascade on a downscaled grey frame.
+
+    Args:
+        downscale: the frame is shrunk by this factor first (2 = half size; about 4x faster);
+            None: to about 427 pixels wide (1.5 for 640), never enlarged; the cascade sees
+            faces of 24 pixels and more, so faces from 36 pixels at 640 wide.
+        min_face_px: smallest face width to report, in full-size pixels.
+    """
+
+    def __init__(self, downscale: float | None = None, min_face_px: int = 24) -> None:
+        path = cv2.data.haarcascades + "haarcascade_frontalface_default.xml"
+        self._cascade = cv2.CascadeClassifier(path)
+        if self._cascade.empty():
+            raise RuntimeError(f"cannot load the Haar cascade {path} (opencv-python-headless>=4.10,<5 is needed)")
+        self.downscale = downscale
+        self.min_face_px = min_face_px
+
+    def __call__(self, frame: npt.NDArray[np.uint8]) -> list[FaceBox]:
+        """Face boxes `(x, y, w, h)` in full-size pixels, largest first."""
+        grey = cv2.cvtColor(frame, cv2.COLOR_BGR2GRAY)
+        s = self.downscale or max(1.0, frame.shape[1] / 427.0)
+        if s > 1:
+            grey = cv2.resize(grey, None, fx=1 / s, fy=1 / s, interpolation=cv2.INTER_AREA)
+        smallest = max(12, int(self.min_face_px / s))
+        found = self._cascade.detectMultiScale(grey, scaleFactor=1.1, minNeighbors=4, minSize=(smallest, smallest))
+        boxes = [tuple(int(round(v * s)) for v in box) for box in (found if len(found) else [])]
+        return sorted(boxes, key=lambda b: -b[2])  # type: ignore[return-value]
+
+
+def choose_face(boxes: list[FaceBox], skin: npt.NDArray[np.uint8], min_skin: float = 0.25) -> FaceBox | None:
+    """The face box with the most skin inside (a real face is skin; a false detection rarely is)."""
+    best, best_share = None, min_skin
+    for x, y, w, h in boxes:
+        patch = skin[max(y, 0) : y + h, max(x, 0) : x + w]
+        share = float(np.count_nonzero(patch)) / max(patch.size, 1)
+        if share >= best_share:
+            best, best_share = (x, y, w, h), share
+    return best
+
+
+def face_centre(face: FaceBox) -> npt.NDArray[np.float64]:
+    """Centre of a face box in pixels (about the head joint: the centre of the head)."""
+    x, y, w, h = face
+    return np.array([x + (w - 1) / 2.0, y + (h - 1) / 2.0])
+
+
+def startup_points(face: FaceBox, blobs: list[SkinBlob], config: FeatureConfig) -> npt.NDArray[np.float64]:
+    """Head and hand points for the A-pose check: `(3, 2)` head, right hand, left hand; NaN if absent.
+
+    The head is the face centre. Hand candidates are blobs clear of the face, whose centroid is
+    below the face and within seven face widths of it, and which are at most 2.5 face areas (a
+    bare forearm and hand is about one; a skin-coloured shirt or khaki trousers are one huge
+    blob); on each side of the face the largest is the hand, its point the blob's far end
+    along its long axis, pointing away from the head (short sleeves show the forearm too).
+    """
+    x, y, w, h = face
+    head = face_centre(face)
+    points = np.full((3, 2), np.nan)
+    points[0] = head
+    shoulder_px = config.startup_shoulder_faces * w
+    sides: dict[int, SkinBlob] = {}
+    for blob in blobs:
+        cx, cy = blob.centroid
+        bx, by, bw, bh = blob.bbox
+        overlaps = bx < x + w and bx + bw > x and by < y + h and by + bh > y
+        far = np.hypot(cx - head[0], cy - head[1]) > 7.0 * w
+        if overlaps or far or cy < head[1] + 0.5 * w or blob.area > 2.5 * w * h:
+            continue
+        slot = 1 if cx < head[0] else 2  # image left = the subject's right hand
+        if slot not in sides or blob.area > sides[slot].area:
+            sides[slot] = blob
+    for slot, blob in sides.items():
+        outward = unit(np.subtract(blob.centroid, head))
+        axis = principal_direction(blob)
+        direction = outward
+        if axis is not None and outward is not None:
+            direction = axis if float(axis @ outward) >= 0 else -axis
+        points[slot] = (
+            far_end(blob, direction, config.hand_length * shoulder_px) if direction is not None else blob.centroid
+        )
+    return points
+
+
+@dataclass(frozen=True)
+class APoseCheck:
+    """The geometry check of Eq. 3.3.1-1 on head and hand points.
+
+    Attributes:
+        passed: both hands found, below the head, r_d and d3 within range.
+        r_d: min(d1, d2) / max(d1, d2) (NaN without both hands).
+        d3_faces: distance between the hands in face widths (NaN without both hands).
+        reason: why it failed ("" when it passed).
+    """
+
+    passed: bool
+    r_d: float
+    d3_faces: float
+    reason: str
+
+
+def check_apose(
+    points: npt.NDArray[np.float64],
+    face_width: float,
+    min_ratio: float = 0.6,
+    d3_range: tuple[float, float] = (3.0, 12.0),
+) -> APoseCheck:
+    """Checks head and hands `(3, 2)` for the A-pose (SPEC 6: r_d >= 0.6, 3 <= d3 / face <= 12)."""
+    head, right, left = points
+    if not (np.all(np.isfinite(right)) and np.all(np.isfinite(left))):
+        return APoseCheck(False, float("nan"), float("nan"), "two hand blobs not found")
+    d1 = float(np.hypot(*(left - head)))
+    d2 = float(np.hypot(*(right - head)))
+    r_d = min(d1, d2) / max(d1, d2, 1e-9)
+    d3 = float(np.hypot(*(right - left))) / max(face_width, 1e-9)
+    if right[1] <= head[1] or left[1] <= head[1]:
+        return APoseCheck(False, r_d, d3, "hands not below the head")
+    if r_d < min_ratio:
+        return APoseCheck(False, r_d, d3, f"r_d {r_d:.2f} < {min_ratio}")
+    if not d3_range[0] <= d3 <= d3_range[1]:
+        return APoseCheck(False, r_d, d3, f"d3 {d3:.1f} face widths outside {d3_range}")
+    return APoseCheck(True, r_d, d3, "")
+
+
+def depth_from_face(camera: Camera, face_width_px: float) -> float:
+    """Root depth in metres from the face box width (Z = f * W / w; perspective cameras)."""
+    if camera.kind == "perspective":
+        return float(camera.focal * FACE_WIDTH_M / max(face_width_px, 1.0))
+    return float(camera.reference_depth or 2.2)
+
+
+def root_from_head(
+    camera: Camera, head_px: npt.ArrayLike, depth: float, pose: Pose | npt.ArrayLike, body: BodyModel
+) -> npt.NDArray[np.float64]:
+    """The root position that puts the model's head at pixel `head_px` with the root at `depth`.
+
+    The head's offset from the root comes from forward kinematics at `pose` (so a leaning
+    torso is accounted for); the head is back-projected at the root's depth plus that offset.
+    """
+    offset = forward_kinematics(pose, np.zeros(3), body)[HEAD]
+    u, v = np.asarray(head_px, dtype=np.float64)
+    head_z = depth + offset[2]
+    if camera.kind == "perspective":
+        hx = (u - camera.cx) * head_z / camera.focal
+        hy = (v - camera.cy) * head_z / camera.focal
+    else:
+        scale = camera.focal if camera.kind == "orthographic" else camera.focal / (camera.reference_depth or depth)
+        hx, hy = (u - camera.cx) / scale, (v - camera.cy) / scale
+    return np.array([hx - offset[0], hy - offset[1], depth])
+
+
+def _run_width(silhouette: npt.NDArray[np.uint8], row: int, x: float) -> float | None:
+    """Width of the run of silhouette pixels in `row` that contains column `x` (None if none)."""
+    height, width = silhouette.shape
+    if not (0 <= row < height and 0 <= int(round(x)) < width):
+        return None
+    line = silhouette[row] > 0
+    c = int(round(x))
+    if not line[c]:
+        return None
+    off = np.flatnonzero(~line)
+    left = off[off < c]
+    right = off[off > c]
+    a = int(left[-1]) + 1 if left.size else 0
+    b = int(right[0]) if right.size else width
+    return float(b - a)
+
+
+def shoulder_span(
+    silhouette: npt.NDArray[np.uint8], joints_2d: npt.NDArray[np.float64], drop_px: float
+) -> float | None:
+    """Median silhouette width over five rows `drop_px` below the shoulder line, through the neck."""
+    neck = 0.5 * (joints_2d[R_SHOULDER] + joints_2d[L_SHOULDER])
+    row = int(round(neck[1] + drop_px))
+    widths = [w for r in range(row - 2, row + 3) if (w := _run_width(silhouette, r, neck[0])) is not None]
+    return float(np.median(widths)) if widths else None
+
+
+def measure_body(
+    camera: Camera,
+    face: FaceBox,
+    points: npt.NDArray[np.float64],
+    base: BodyModel | None = None,
+    silhouette: npt.NDArray[np.uint8] | None = None,
+    face_width_px: float | None = None,
+    max_change: float = 0.2,
+) -> tuple[BodyModel, npt.NDArray[np.float64]]:
+    """The person's body model and root from the A-pose.
+
+    1. Depth from the face width (`face_width_px`, e.g. a median over the start-up frames).
+    2. Shoulder and torso width: the silhouette's width a little below the shoulder line,
+       against the same width of the model rendered in the A-pose.
+    3. Arm lengths: shoulder-to-hand distances of the measured hands against the model's.
+    Each ratio is clamped to `max_change`; everything else keeps the adult averages.
+
+    Args:
+        camera: the camera.
+        face: the face box of this frame (its centre places the head).
+        points: `(3, 2)` head, right hand, left hand (hands may be NaN: arms keep the averages).
+        base: dimensions to start from (adult averages when None).
+        silhouette: I_sil of this frame, for the shoulder width (None: not measured). The
+            tracker leaves it out: on the synthetic dev set the silhouette just below the
+            shoulders is 0-25 % wider than the cone model's for the same person (sloping
+            shoulders, clothes, the silhouette's closing), which made things worse.
+        face_width_px: face width for the depth; this frame's box when None.
+        max_change: the largest relative change of a measured dimension.
+
+    Returns:
+        (body, root): the body model and the root position (metres, camera frame).
+    """
+    body = base or BodyModel()
+    depth = depth_from_face(camera, face_width_px or face[2])
+    pose = Pose.a_pose()
+    head = face_centre(face)
+    low, high = 1.0 - max_change, 1.0 + max_change
+    dims = body.as_dict()
+    root = root_from_head(camera, head, depth, pose, body)
+    if silhouette is not None:
+        model = project(camera, forward_kinematics(pose, root, body))
+        height, width = silhouette.shape
+        drop = 0.06 * camera.focal / depth if camera.kind == "perspective" else 0.06 * camera.focal
+        rendered = render_masks(pose, root, camera, width, height, body)["silhouette"]
+        measured, modelled = shoulder_span(silhouette, model, drop), shoulder_span(rendered, model, drop)
+        if measured and modelled:
+            k = float(np.clip(measured / modelled, low, high))
+            for key in ("shoulder_width", "torso_half_width", "torso_half_depth"):
+                dims[key] = dims[key] * k
+            body = BodyModel(**dims)
+            root = root_from_head(camera, head, depth, pose, body)
+    model = project(camera, forward_kinematics(pose, root, body))
+    ratios = []
+    for shoulder, hand, point in ((R_SHOULDER, R_HAND, 1), (L_SHOULDER, L_HAND, 2)):
+        got = points[point]
+        if np.all(np.isfinite(got)) and np.all(np.isfinite(model[[shoulder, hand]])):
+            length = float(np.hypot(*(model[hand] - model[shoulder])))
+            if length > 1.0:
+                ratios.append(float(np.hypot(*(got - model[shoulder]))) / length)
+    if len(ratios) == 2 and abs(ratios[0] - ratios[1]) > 0.15:
+        ratios = [min(ratios, key=lambda r: abs(r - 1.0))]  # one hand point is off: trust the other
+    if ratios:
+        k = float(np.clip(np.median(ratios), low, high))
+        dims["upper_arm_length"] = dims["upper_arm_length"] * k
+        dims["lower_arm_length"] = dims["lower_arm_length"] * k
+        body = BodyModel(**dims)
+    return body, root
+
+
+__all__ = [
+    "FACE_WIDTH_M",
+    "APoseCheck",
+    "FaceDetector",
+    "check_apose",
+    "choose_face",
+    "depth_from_face",
+    "face_centre",
+    "measure_body",
+    "shoulder_span",
+    "root_from_head",
+    "startup_points",
+]

@@ -1,0 +1,589 @@
+"""`Tracker`: video frames in, 3D upper-body poses out, one `update(frame)` at a time.
+
+The loop of the thesis' flowchart (Fig. 3.6-1): while nobody is tracked, look for a frontal face
+and the A-pose (start-up, §3.3); then per frame predict the pose (constant velocity), extract
+the features around the prediction, estimate the root, search the moving parts (motion flags,
+§3.4.3) inside trajectory windows, and check for lost hands (§3.4.9), which are searched over
+their anatomical ranges until found. See docs/tracker.md.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any, Protocol
+
+import cv2
+import numpy as np
+import numpy.typing as npt
+
+from upperpose._upperpose import joint_limits
+from upperpose.exceptions import UpperposeError
+from upperpose.features import Background, FeatureConfig, FeatureExtractor, FrameFeatures
+from upperpose.model import BodyModel, Camera, Pose, forward_kinematics, project, render_masks
+from upperpose.tracker.recovery import (
+    ARMS,
+    HAND_JOINT,
+    HAND_POINT,
+    HandFollower,
+    LostDetector,
+    hand_distances,
+    unexplained_by_side,
+)
+from upperpose.tracker.root import RootEstimator
+from upperpose.tracker.startup import (
+    FaceBox,
+    FaceDetector,
+    check_apose,
+    choose_face,
+    face_centre,
+    measure_body,
+    startup_points,
+)
+from upperpose.tracker.state import LOST, NO_PERSON, TRACKED, StateMachine
+
+FloatArray = npt.NDArray[np.float64]
+PARTS = ("torso", "right_arm", "left_arm")
+# Angle indices per searched part (ANGLE_NAMES order).
+PART_ANGLES = {"torso": slice(0, 3), "right_arm": slice(3, 8), "left_arm": slice(8, 13)}
+
+
+class FitLike(Protocol):
+    """What a fitter returns (`upperpose.FrameFit` or a test double)."""
+
+    pose: Any
+    root: Any
+    joints_3d: Any
+    joints_2d: Any
+    cost: float
+
+
+Fitter = Callable[..., FitLike]
+
+
+@dataclass(frozen=True)
+class StaticFit:
+    """A fit made without searching (nothing moved, or a test double)."""
+
+    pose: FloatArray
+    root: FloatArray
+    joints_3d: FloatArray
+    joints_2d: FloatArray
+    cost: float
+    terms: dict[str, Any] = field(default_factory=dict)
+    evaluations: int = 0
+
+
+def default_fitter() -> Fitter:
+    """The Rust search, `upperpose.fit_frame`.
+
+    Raises:
+        UpperposeError: this build of upperpose has no search.
+    """
+    import upperpose
+
+    fit = getattr(upperpose, "fit_frame", None)
+    if fit is None:
+        raise UpperposeError("this build of upperpose has no search (fit_frame); rebuild the extension")
+    return fit  # type: ignore[no-any-return]
+
+
+@dataclass(frozen=True)
+class TrackerConfig:
+    """Settings of the tracker (the search's own settings go to `upperpose.SearchConfig`).
+
+    Attributes:
+        particles, iterations, threads, seed, limits: passed to `SearchConfig` when `search` is
+            None (None keeps the search's default).
+        root_window: half-width in metres of the torso stage's search over the root's X and Y
+            around the estimate of `RootEstimator` (also used after start-up and losses).
+        search: a ready `upperpose.SearchConfig`; overrides the fields above.
+        features: feature thresholds; the background's when None.
+        skip_static: search only the parts whose motion flag is set (§3.4.3); False searches
+            every part every frame.
+        confirm_frames: frames in a row the start-up check must pass.
+        face_only_frames: after this many frames in a row with a stable face but no three
+            clean skin blobs (a skin-coloured shirt swallows the hands), start anyway from the
+            A-pose with average arms.
+        leave_frames: frames in a row without the person before going back to "no_person".
+        presence_share: the person is present while at least this share of the model's last
+            projection is covered by the silhouette, or the head's skin blob lies within a
+            shoulder width of the model's head.
+        lost_threshold, lost_frames: lost detection (SPEC 5: one shoulder width, several frames).
+        unexplained_share: an arm also counts a miss when the silhouette on its side that the
+            model leaves unexplained exceeds its level of the first ten tracked frames (the
+            person's shape is not the model's) by this share of one arm's projected area.
+        velocity_damping: share of last frame's velocity kept in the prediction.
+        recovery_window_scale: trajectory windows are widened by this factor on the frame after
+            a recovery.
+        startup_window_scale: the first frame is searched around the A-pose with trajectory
+            windows widened by this factor.
+    """
+
+    particles: int | None = None
+    iterations: int | None = None
+    threads: int | None = None
+    seed: int = 0
+    limits: str = "anatomical"
+    root_window: float = 0.04
+    search: Any = None
+    features: FeatureConfig | None = None
+    skip_static: bool = True
+    confirm_frames: int = 3
+    face_only_frames: int = 15
+    leave_frames: int = 8
+    presence_share: float = 0.3
+    lost_threshold: float = 1.0
+    lost_frames: int = 5
+    unexplained_share: float = 0.6
+    velocity_damping: float = 0.7
+    recovery_window_scale: float = 2.0
+    startup_window_scale: float = 3.0
+
+    def search_config(self) -> Any:
+        """The `upperpose.SearchConfig` to use (None when the extension has none)."""
+        if self.search is not None:
+            return self.search
+        try:
+            from upperpose import SearchConfig  # type: ignore[attr-defined]
+        except ImportError:
+            return None
+        given = {"particles": self.particles, "iterations": self.iterations, "threads": self.threads}
+        kwargs = {k: v for k, v in given.items() if v is not None}
+        return SearchConfig(
+            seed=self.seed,
+            limits=self.limits,
+            root_window=self.root_window,
+            initial_root_window=self.root_window,
+            **kwargs,
+        )
+
+
+@dataclass(frozen=True)
+class TrackResult:
+    """The tracker's answer for one frame.
+
+    Attributes:
+        frame: frame number (0 = the first frame given to the tracker).
+        status: "no_person", "initialising", "tracked" or "lost".
+        pose: `(13,)` angles in radians (ANGLE_NAMES order), or None without a person.
+        root: `(3,)` root position, metres, camera frame; or None.
+        joints_2d: `(7, 2)` pixels (JOINT_NAMES order); or None.
+        joints_3d: `(7, 3)` metres, camera frame; or None.
+        cost: the search's cost at the fit; or None.
+        searched: the parts searched this frame.
+        lost_parts: the arms that are lost.
+        timings: wall seconds per stage: "features", "startup", "search", "other".
+    """
+
+    frame: int
+    status: str
+    pose: FloatArray | None = None
+    root: FloatArray | None = None
+    joints_2d: FloatArray | None = None
+    joints_3d: FloatArray | None = None
+    cost: float | None = None
+    searched: tuple[str, ...] = ()
+    lost_parts: tuple[str, ...] = ()
+    timings: dict[str, float] = field(default_factory=dict)
+
+    def to_record(self) -> dict[str, Any]:
+        """The frame as a SPEC 9 "frames" entry (plus "root")."""
+
+        def rows(a: FloatArray | None) -> list[list[float]] | None:
+            return None if a is None else [[float(v) for v in row] for row in a]
+
+        has_pose = self.status in (TRACKED, LOST) and self.pose is not None
+        return {
+            "frame": self.frame,
+            "status": self.status,
+            "joints_2d": rows(self.joints_2d) if has_pose else None,
+            "joints_3d": rows(self.joints_3d) if has_pose else None,
+            "angles": [float(v) for v in self.pose] if has_pose and self.pose is not None else None,
+            "cost": float(self.cost) if has_pose and self.cost is not None and np.isfinite(self.cost) else None,
+            "root": [float(v) for v in self.root] if has_pose and self.root is not None else None,
+        }
+
+
+def _limit_hull(preset: str) -> tuple[FloatArray, FloatArray]:
+    limits = joint_limits(preset)
+    low = np.array([min(a for a, _ in intervals) for intervals in limits])
+    high = np.array([max(b for _, b in intervals) for intervals in limits])
+    return low, high
+
+
+class Tracker:
+    """Tracks one person's upper body frame by frame (a live camera or a file).
+
+    Args:
+        camera: the camera (`Camera.for_image(w, h, focal)`).
+        background: a `Background`, or a clean plate `(H, W, 3)` uint8 BGR image.
+        config: tracker settings.
+        fps: frame rate, for the search's trajectory windows when `update` gets no timestamps.
+        body: dimensions to start the start-up measurement from (adult averages when None).
+        fitter: the search; `upperpose.fit_frame` when None (injectable for tests).
+        face_detector: callable frame -> face boxes; OpenCV's Haar cascade when None.
+
+    One Tracker per thread and per video.
+    """
+
+    # Per-person state, set by _reset_person() and _start().
+    _body: BodyModel
+    _pose: FloatArray
+    _previous_pose: FloatArray
+    _root: RootEstimator
+    _last_root: FloatArray | None
+    _labels: npt.NDArray[np.uint8] | None
+    _last_joints: FloatArray | None
+    _last_cost: float
+    _last_points: FloatArray
+    _followed: dict[str, FloatArray]
+    _recovered: bool
+    _loose_baseline: list[list[float]]
+    _face_streak: int
+    _face_widths: list[float]
+    _last_face: FaceBox | None
+
+    def __init__(
+        self,
+        camera: Camera,
+        background: Background | npt.NDArray[np.uint8],
+        config: TrackerConfig | None = None,
+        *,
+        fps: float = 30.0,
+        body: BodyModel | None = None,
+        fitter: Fitter | None = None,
+        face_detector: Callable[[npt.NDArray[np.uint8]], list[FaceBox]] | None = None,
+    ) -> None:
+        self.camera = camera
+        self.config = config or TrackerConfig()
+        cfg = self.config
+        if not isinstance(background, Background):
+            background = Background.from_plate(np.asarray(background), cfg.features or FeatureConfig())
+        self.background = background
+        self.size = background.size
+        self.fps = float(fps) if fps and fps > 0 else 30.0
+        self._extract = FeatureExtractor(background, cfg.features, reuse_buffers=True)
+        self._fitter = fitter or default_fitter()
+        self._search_config = cfg.search_config()
+        self._detect_faces = face_detector or FaceDetector()
+        self._base_body = body or BodyModel()
+        self._low, self._high = _limit_hull(cfg.limits)
+        self._half_camera = (
+            Camera.perspective(camera.focal / 2, (camera.cx + 0.5) / 2 - 0.5, (camera.cy + 0.5) / 2 - 0.5)
+            if camera.kind == "perspective"
+            else None
+        )
+        self.state = StateMachine(confirm_frames=cfg.confirm_frames, leave_frames=cfg.leave_frames)
+        self._lost = LostDetector(cfg.lost_threshold, cfg.lost_frames)
+        self._follow = HandFollower()
+        self._frame = 0
+        self._last_time: float | None = None
+        self._reset_person()
+
+    # -- public state -------------------------------------------------------------------------
+
+    @property
+    def status(self) -> str:
+        """The status of the last frame."""
+        return self.state.status
+
+    @property
+    def body(self) -> BodyModel:
+        """The person's measured body model (the start-up averages before start-up)."""
+        return self._body
+
+    def reset(self) -> None:
+        """Forgets the person and the previous frame (after a cut or a seek)."""
+        self.state.reset()
+        self._extract.reset()
+        self._reset_person()
+
+    def force_lost(self, arm: str) -> None:
+        """Marks an arm lost, as if the lost detector had fired (for tests and experiments)."""
+        if arm not in ARMS:
+            raise ValueError(f"arm must be one of {ARMS}, got {arm!r}")
+        self._lost.force_lost(arm)
+        if self._last_joints is not None:
+            self._follow.start(arm, self._last_joints[HAND_JOINT[arm]], self._shoulder_px())
+
+    # -- the frame loop -----------------------------------------------------------------------
+
+    def update(self, frame: npt.NDArray[np.uint8], timestamp: float | None = None) -> TrackResult:
+        """Tracks one frame.
+
+        Args:
+            frame: `(H, W, 3)` uint8 BGR, the background's size.
+            timestamp: capture time in seconds (live cameras); frames are 1/fps apart when None.
+
+        Returns:
+            The result for this frame.
+
+        Raises:
+            ValueError: a frame of the wrong size or type.
+        """
+        index = self._frame
+        self._frame += 1
+        interval = 1.0 / self.fps
+        if timestamp is not None:
+            if self._last_time is not None and timestamp > self._last_time:
+                interval = float(np.clip(timestamp - self._last_time, 1e-3, 1.0))
+            self._last_time = timestamp
+        if self.state.has_person:
+            return self._track(frame, index, interval)
+        return self._look_for_person(frame, index)
+
+    # -- start-up -----------------------------------------------------------------------------
+
+    def _look_for_person(self, frame: npt.NDArray[np.uint8], index: int) -> TrackResult:
+        t0 = time.perf_counter()
+        features = self._extract(frame)
+        t1 = time.perf_counter()
+        face = choose_face(self._detect_faces(frame), features.skin)
+        passed = False
+        points = np.full((3, 2), np.nan)
+        if face is not None:
+            stable = (
+                self._last_face is not None
+                and np.hypot(*(face_centre(face) - face_centre(self._last_face))) < 0.5 * face[2]
+            )
+            self._face_streak = self._face_streak + 1 if stable or self._last_face is None else 1
+            self._face_widths = ([*self._face_widths, float(face[2])] if stable else [float(face[2])])[-10:]
+            points = startup_points(face, features.blobs, self._extract.config)
+            check = check_apose(points, face[2])
+            passed = check.passed or self._face_streak >= self.config.face_only_frames
+            if not check.passed:
+                points[1:] = np.nan  # face-only start-up: average arms
+        else:
+            self._face_streak = 0
+        self._last_face = face
+        t2 = time.perf_counter()
+        timings = {"features": t1 - t0, "startup": t2 - t1}
+        if not self.state.startup(face is not None, passed) or face is None:
+            return TrackResult(index, self.state.status, timings=timings)
+        self._start(features, face, points)
+        # The person stands in the A-pose facing the camera: search around it with wide windows
+        # rather than over the whole anatomical ranges (a turned torso with an arm along it fits
+        # a frontal A-pose silhouette almost as well).
+        scale = self.config.startup_window_scale
+        fit = self._fit(features, self._pose, self._root.root, "trajectory", PARTS, index, 1.0 / self.fps, scale)
+        t3 = time.perf_counter()
+        timings.update(search=t3 - t2)
+        result = self._accept(fit, features, index, PARTS, timings)
+        timings["other"] = time.perf_counter() - t3
+        return result
+
+    def _start(self, features: FrameFeatures, face: FaceBox, points: FloatArray) -> None:
+        body, root = measure_body(
+            self.camera,
+            face,
+            points,
+            self._base_body,
+            face_width_px=float(np.median(self._face_widths)) if self._face_widths else None,
+        )
+        centre = face_centre(face)
+        head_blob_width, bias = None, np.zeros(2)
+        head = features.head
+        if head is not None and not head.merged:
+            blob = features.blobs[head.blob]
+            if blob.distance_to(centre) == 0.0 and blob.bbox[2] <= 1.6 * face[2]:
+                head_blob_width = float(blob.bbox[2])
+                bias = np.asarray(head.xy) - centre
+        self._body = body
+        self._root = RootEstimator(self.camera, body, root, head_blob_width, bias, head_size_px=float(face[2]))
+        self._pose = Pose.a_pose().angles.copy()
+        self._previous_pose = self._pose.copy()
+        self._lost.reset()
+        self._follow.reset()
+
+    # -- tracking -----------------------------------------------------------------------------
+
+    def _predict(self) -> FloatArray:
+        velocity = self._pose - self._previous_pose
+        return np.clip(self._pose + self.config.velocity_damping * velocity, self._low, self._high)
+
+    def _shoulder_px(self) -> float:
+        if self._last_joints is None:
+            return 60.0
+        return float(np.hypot(*(self._last_joints[1] - self._last_joints[2])))
+
+    def _track(self, frame: npt.NDArray[np.uint8], index: int, interval: float) -> TrackResult:
+        t0 = time.perf_counter()
+        prediction = self._predict()
+        predicted_joints = project(self.camera, forward_kinematics(prediction, self._root.root, self.body))
+        for arm, xy in self._followed.items():
+            predicted_joints[HAND_JOINT[arm]] = xy
+        features = self._extract(frame, predicted_joints, self._labels)
+        root = self._root.update(features, prediction, self._last_root)
+        t1 = time.perf_counter()
+
+        lost = [arm for arm in ARMS if self._lost.lost[arm]]
+        flags = features.motion_flags
+        if self.config.skip_static and flags is not None:
+            moving = [p for p in PARTS if flags[p].moving]
+        else:
+            moving = list(PARTS)
+        # A part that does not move keeps last frame's pose, not an extrapolation.
+        for part in PARTS:
+            if part not in moving:
+                prediction[PART_ANGLES[part]] = self._pose[PART_ANGLES[part]]
+        # A lost arm is searched both ways: in its trajectory window and over its anatomical
+        # ranges (§3.4.9); the lower cost wins, so a false alarm costs time, not accuracy.
+        trajectory = tuple(p for p in PARTS if p in moving or p in lost)
+        scale = self.config.recovery_window_scale if self._recovered else 1.0
+        if trajectory:
+            fit: FitLike = self._fit(features, prediction, root, "trajectory", trajectory, index, interval, scale)
+        else:
+            fit = self._static_fit(prediction, root)
+        if lost:
+            wide = self._fit(
+                features, np.asarray(fit.pose), np.asarray(fit.root), "initial", tuple(lost), index, interval
+            )
+            if float(wide.cost) < float(fit.cost):
+                fit = wide
+        t2 = time.perf_counter()
+        searched = trajectory
+        result = self._accept(fit, features, index, searched, {"features": t1 - t0, "search": t2 - t1})
+        result.timings["other"] = time.perf_counter() - t2
+        return result
+
+    def _fit(
+        self,
+        features: FrameFeatures,
+        prediction: FloatArray,
+        root: FloatArray,
+        mode: str,
+        search: tuple[str, ...],
+        index: int,
+        interval: float,
+        window_scale: float = 1.0,
+    ) -> FitLike:
+        return self._fitter(
+            features,
+            np.ascontiguousarray(prediction, dtype=np.float64),
+            np.ascontiguousarray(root, dtype=np.float64),
+            self.body,
+            self.camera,
+            mode=mode,
+            window_scale=window_scale,
+            frame_interval=interval,
+            search=search,
+            frame_index=index,
+            config=self._search_config,
+        )
+
+    def _static_fit(self, pose: FloatArray, root: FloatArray) -> StaticFit:
+        joints = forward_kinematics(pose, root, self.body)
+        return StaticFit(pose.copy(), root.copy(), joints, project(self.camera, joints), self._last_cost)
+
+    def _accept(
+        self,
+        fit: FitLike,
+        features: FrameFeatures,
+        index: int,
+        searched: tuple[str, ...],
+        timings: dict[str, float],
+    ) -> TrackResult:
+        """Takes a fit as this frame's pose: presence, lost detection, status, state for next frame."""
+        pose = np.array(fit.pose, dtype=np.float64)
+        root = np.array(fit.root, dtype=np.float64)
+        joints_2d = np.array(fit.joints_2d, dtype=np.float64)
+        joints_3d = np.array(fit.joints_3d, dtype=np.float64)
+        labels = self._render_labels(pose, root)
+        model = labels > 0
+        area = int(np.count_nonzero(model))
+        covered = int(np.count_nonzero(features.sil[model])) if area else 0
+        # Present while the silhouette covers the model, or while the head's skin blob is where
+        # the model's head is (an estimated background can hold a person who hardly moved, and
+        # then the silhouette misses them).
+        head = features.head
+        head_near = (
+            head is not None
+            and not head.merged
+            and float(np.hypot(*(np.asarray(head.xy) - joints_2d[0]))) < float(np.hypot(*(joints_2d[1] - joints_2d[2])))
+        )
+        present = area > 0 and (covered >= self.config.presence_share * area or head_near)
+
+        was_lost = dict(self._lost.lost)
+        points = features.points_array()
+        loose = unexplained_by_side(features.sil, labels, 0.5 * float(joints_2d[1, 0] + joints_2d[2, 0]))
+        arm_px = self._arm_area_px(root)
+        if len(self._loose_baseline) < 10:  # the body-shape mismatch of the first tracked frames
+            self._loose_baseline.append([loose[a] / arm_px for a in ARMS])
+        base = np.median(self._loose_baseline, axis=0)
+        excess = [loose[arm] / arm_px - base[k] for k, arm in enumerate(ARMS)]
+        # More than a few arms' worth on both sides is a global change (light, a moved camera),
+        # not a misplaced arm: no evidence.
+        global_change = min(excess) > 3.0
+        missing = {arm: not global_change and excess[k] > self.config.unexplained_share for k, arm in enumerate(ARMS)}
+        lost = self._lost.update(joints_2d, hand_distances(joints_2d, features), missing)
+        self._recovered = any(was_lost[a] and not lost[a] for a in ARMS)
+        shoulder_px = float(np.hypot(*(joints_2d[1] - joints_2d[2])))
+        for arm in ARMS:
+            if lost[arm] and arm not in self._follow.windows:
+                k = HAND_POINT[arm]
+                start = (
+                    self._last_points[k] if np.all(np.isfinite(self._last_points[k])) else joints_2d[HAND_JOINT[arm]]
+                )
+                self._follow.start(arm, start, shoulder_px)
+            elif not lost[arm]:
+                self._follow.stop(arm)
+        self._followed = self._follow.step(features.skin) if self._follow.windows else {}
+        for k in (1, 2):
+            if np.all(np.isfinite(points[k])):
+                self._last_points[k] = points[k]
+
+        status_now = self.state.tracking(present, any(lost.values()))
+        lost_parts = tuple(a for a in ARMS if lost[a])
+        if status_now == NO_PERSON:
+            self._reset_person()
+            return TrackResult(index, NO_PERSON, searched=searched, timings=timings)
+        self._previous_pose, self._pose = self._pose, pose
+        self._last_root, self._labels = root, labels
+        self._last_joints, self._last_cost = joints_2d, float(fit.cost)
+        return TrackResult(
+            index, status_now, pose, root, joints_2d, joints_3d, float(fit.cost), searched, lost_parts, timings
+        )
+
+    def _arm_area_px(self, root: FloatArray) -> float:
+        """Projected area in pixels of one whole arm seen side-on at the root's depth."""
+        dims = self.body.as_dict()
+        width = float(sum(dims["upper_arm_radii"]) + sum(dims["lower_arm_radii"]))  # two mean diameters
+        length = float(dims["upper_arm_length"]) + float(dims["lower_arm_length"])
+        scale = self.camera.focal / max(float(root[2]), 0.1) if self.camera.kind == "perspective" else self.camera.focal
+        return float(0.5 * width * length * scale * scale)
+
+    def _render_labels(self, pose: FloatArray, root: FloatArray) -> npt.NDArray[np.uint8]:
+        """The model's part labels at full size, rasterised at half resolution (4x cheaper).
+
+        They serve the motion flags (counted inside a 9x9 dilation) and the torso region of the
+        arm silhouette, where a pixel of rounding does not matter.
+        """
+        height, width = self.size
+        if self._half_camera is None:
+            return render_masks(pose, root, self.camera, width, height, self.body)["labels"]
+        small = render_masks(pose, root, self._half_camera, (width + 1) // 2, (height + 1) // 2, self.body)["labels"]
+        return np.asarray(cv2.resize(small, (width, height), interpolation=cv2.INTER_NEAREST), dtype=np.uint8)
+
+    def _reset_person(self) -> None:
+        self._body = self._base_body
+        self._pose = Pose.a_pose().angles.copy()
+        self._previous_pose = self._pose.copy()
+        self._root = RootEstimator(self.camera, self._body, [0.0, 0.0, 2.2], None)
+        self._last_root = None
+        self._labels = None
+        self._last_joints = None
+        self._last_cost = float("nan")
+        self._last_points = np.full((3, 2), np.nan)
+        self._followed = {}
+        self._recovered = False
+        self._loose_baseline = []
+        self._face_streak = 0
+        self._face_widths = []
+        self._last_face = None
+        self._lost.reset()
+        self._follow.reset()
+
+
+__all__ = ["PARTS", "StaticFit", "TrackResult", "Tracker", "TrackerConfig", "default_fitter"]

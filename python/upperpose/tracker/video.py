@@ -1,0 +1,100 @@
+"""Reading videos frame by frame, with one clear `VideoError` per way a file can be bad."""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Iterator
+from pathlib import Path
+
+import cv2
+import numpy as np
+import numpy.typing as npt
+
+from upperpose.exceptions import VideoError
+
+Frame = npt.NDArray[np.uint8]
+DEFAULT_FPS = 30.0
+
+
+class VideoReader:
+    """Streams the frames of a video file (or a camera index) one at a time.
+
+    Memory does not grow with the video's length: one frame is held at a time. The first frame
+    is decoded on opening, so that an empty or undecodable file fails at once with a message.
+
+    Args:
+        source: a path to a video file, or an integer camera index.
+
+    Raises:
+        VideoError: the file is missing, is a folder, cannot be decoded, or holds no frames.
+    """
+
+    def __init__(self, source: str | os.PathLike[str] | int) -> None:
+        self.name = f"camera {source}" if isinstance(source, int) else str(source)
+        if not isinstance(source, int):
+            path = Path(source)
+            if not path.exists():
+                raise VideoError(f"no such video: {path}")
+            if path.is_dir():
+                raise VideoError(f"{path} is a folder, not a video")
+            if path.stat().st_size == 0:
+                raise VideoError(f"{path} is empty (0 bytes)")
+        self._cap = cv2.VideoCapture(source if isinstance(source, int) else str(source))
+        if not self._cap.isOpened():
+            self._cap.release()
+            raise VideoError(f"cannot read {self.name}: not a video OpenCV can decode (missing codec or corrupt file)")
+        ok, first = self._cap.read()
+        if not ok or first is None or first.ndim != 3 or first.shape[2] != 3:
+            self._cap.release()
+            raise VideoError(f"{self.name} has no decodable frames (empty or corrupt video)")
+        self._first: Frame | None = first
+        self.height, self.width = int(first.shape[0]), int(first.shape[1])
+        fps = float(self._cap.get(cv2.CAP_PROP_FPS) or 0.0)
+        self.fps = fps if np.isfinite(fps) and 1.0 <= fps <= 1000.0 else DEFAULT_FPS
+        count = int(self._cap.get(cv2.CAP_PROP_FRAME_COUNT) or 0)
+        self.frame_count: int | None = count if count > 0 else None
+
+    def __iter__(self) -> Iterator[Frame]:
+        """Yields BGR `(H, W, 3)` uint8 frames until the video ends (a corrupt tail ends it)."""
+        if self._first is not None:
+            first, self._first = self._first, None
+            yield first
+        while True:
+            ok, frame = self._cap.read()
+            if not ok or frame is None:
+                return
+            yield frame
+
+    def close(self) -> None:
+        """Releases the decoder."""
+        self._cap.release()
+
+    def __enter__(self) -> VideoReader:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+
+def read_background(path: str | os.PathLike[str], size: tuple[int, int]) -> Frame:
+    """Reads a clean-plate image and checks it matches the video's `(height, width)`.
+
+    Raises:
+        VideoError: missing or unreadable image.
+        ValueError: the image is not the video's size.
+    """
+    p = Path(path)
+    if not p.is_file():
+        raise VideoError(f"no such background image: {p}")
+    image = cv2.imread(str(p), cv2.IMREAD_COLOR)
+    if image is None:
+        raise VideoError(f"cannot read the background image {p}: not an image OpenCV can decode")
+    if image.shape[:2] != tuple(size):
+        raise ValueError(
+            f"the background image {p} is {image.shape[1]}x{image.shape[0]} "
+            f"but the video is {size[1]}x{size[0]}: use a photo of the same view at the video's size"
+        )
+    return np.ascontiguousarray(image, dtype=np.uint8)
+
+
+__all__ = ["DEFAULT_FPS", "Frame", "VideoReader", "read_background"]

@@ -1,0 +1,230 @@
+"""`upperpose track` (and demo, bench): output schema, atomic writing, Ctrl-C, bad input, determinism."""
+
+from __future__ import annotations
+
+import csv
+import json
+import shutil
+from pathlib import Path
+
+import cv2
+import numpy as np
+import pytest
+
+import upperpose.tracker.tracker as tracker_module
+from tracker_helpers import TruthFitter, clip, truth
+from upperpose.cli import main
+from upperpose.model import ANGLE_NAMES, JOINT_NAMES
+from upperpose.posefile import load_poses
+from upperpose.tracker.output import PoseRecorder, csv_header
+from upperpose.tracker.tracker import TrackResult
+from upperpose.tracker.video import VideoReader
+
+
+@pytest.fixture
+def fake_search(monkeypatch: pytest.MonkeyPatch) -> TruthFitter:
+    """Replaces the Rust search with the truth double for the whole command."""
+    fitter = TruthFitter(truth(clip()))
+    monkeypatch.setattr(tracker_module, "default_fitter", lambda: fitter)
+    return fitter
+
+
+def track(args: list[str], capsys: pytest.CaptureFixture[str]) -> tuple[int, str, str]:
+    code = main(["track", *args])
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def one_line_error(err: str) -> str:
+    lines = [line for line in err.splitlines() if line.strip()]
+    assert len(lines) == 1, err
+    assert "Traceback" not in err
+    return lines[0]
+
+
+def write_video(path: Path, frames: list[np.ndarray], fps: float = 15.0) -> Path:
+    h, w = frames[0].shape[:2]
+    writer = cv2.VideoWriter(str(path), cv2.VideoWriter_fourcc(*"mp4v"), fps, (w, h))
+    for f in frames:
+        writer.write(f)
+    writer.release()
+    return path
+
+
+# -- output -----------------------------------------------------------------------------------
+
+
+def test_output_follows_spec_9(tmp_path: Path, capsys: pytest.CaptureFixture[str], fake_search: TruthFitter) -> None:
+    folder = clip()
+    out, table, overlay = tmp_path / "poses.json", tmp_path / "poses.csv", tmp_path / "overlay.mp4"
+    code, stdout, _ = track(
+        [str(folder / "video.mp4"), "--background", str(folder / "background.png"), "-o", str(out)]
+        + ["--csv", str(table), "--overlay", str(overlay)],
+        capsys,
+    )
+    assert code == 0
+    doc = load_poses(out)  # validates the whole schema
+    raw = json.loads(out.read_text())
+    assert raw["format"] == "upperpose.poses/1"
+    assert raw["joints"] == list(JOINT_NAMES) and raw["angles"] == list(ANGLE_NAMES)
+    assert (raw["width"], raw["height"], raw["fps"]) == (320, 240, 15.0)
+    assert raw["run_time_s"] > 0
+    frames = doc["frames"]
+    assert [f["frame"] for f in frames] == list(range(50))
+    for f in frames:
+        if f["status"] in ("no_person", "initialising"):
+            assert f["joints_2d"] is None and f["joints_3d"] is None and f["angles"] is None
+        else:
+            assert len(f["angles"]) == 13 and len(f["joints_3d"]) == 7 and f["cost"] is not None
+            assert all(z > 0.5 for _, _, z in f["joints_3d"])  # metres in front of the camera
+    assert frames[0]["status"] == "no_person" and frames[-1]["status"] == "tracked"
+    # pixels and metres agree: the 2D joints are the projections of the 3D ones
+    f = frames[-1]
+    X, Y, Z = np.array(f["joints_3d"]).T
+    np.testing.assert_allclose(np.array(f["joints_2d"])[:, 0], 320 * X / Z + 159.5, atol=1e-3)
+    with table.open() as handle:
+        rows = list(csv.reader(handle))
+    assert rows[0] == csv_header() and len(rows) == 51
+    assert rows[-1][1] == "tracked" and rows[1][1] == "no_person" and rows[1][3] == ""
+    assert VideoReader(overlay).frame_count == 50
+    assert "50 frames" in stdout and "tracked" in stdout
+
+
+def test_interrupted_run_leaves_a_valid_file(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], fake_search: TruthFitter, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    original = VideoReader.__iter__
+
+    def interrupted(self: VideoReader):  # type: ignore[no-untyped-def]
+        for i, frame in enumerate(original(self)):
+            if i == 30:
+                raise KeyboardInterrupt
+            yield frame
+
+    monkeypatch.setattr(VideoReader, "__iter__", interrupted)
+    out = tmp_path / "poses.json"
+    folder = clip()
+    code, _, err = track(
+        [str(folder / "video.mp4"), "--background", str(folder / "background.png"), "-o", str(out)], capsys
+    )
+    assert code == 130
+    assert "interrupted after 30 frames" in one_line_error(err)
+    assert [f["frame"] for f in load_poses(out)["frames"]] == list(range(30))
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["poses.json"]  # no temporary files left
+
+
+def test_writing_is_atomic(tmp_path: Path) -> None:
+    out = tmp_path / "poses.json"
+    out.write_text("previous")
+    recorder = PoseRecorder(320, 240, 15.0)
+    recorder.add(TrackResult(0, "no_person"))
+    recorder.records.append({"frame": 1, "status": "tracked", "joints_2d": [[1.0, 2.0]]})  # broken frame
+    with pytest.raises(ValueError, match="joints_2d"):
+        recorder.write_json(out, 1.0)
+    assert out.read_text() == "previous"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["poses.json"]
+    recorder.records.pop()
+    recorder.write_json(out, 1.0)
+    assert load_poses(out)["frames"][0]["status"] == "no_person"
+
+
+# -- bad input --------------------------------------------------------------------------------
+
+
+@pytest.fixture
+def plate_path(tmp_path: Path) -> Path:
+    return Path(shutil.copy(clip() / "background.png", tmp_path / "plate.png"))
+
+
+def test_missing_video(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    code, _, err = track([str(tmp_path / "nope.mp4"), "-o", str(tmp_path / "o.json")], capsys)
+    assert code == 1 and "no such video" in one_line_error(err)
+    assert not (tmp_path / "o.json").exists()
+
+
+def test_not_a_video(tmp_path: Path, capsys: pytest.CaptureFixture[str], plate_path: Path) -> None:
+    text = tmp_path / "notes.mp4"
+    text.write_text("this is not a video\n" * 50)
+    code, _, err = track([str(text), "--background", str(plate_path), "-o", str(tmp_path / "o.json")], capsys)
+    assert code == 1 and str(text) in one_line_error(err)
+
+
+def test_empty_video(tmp_path: Path, capsys: pytest.CaptureFixture[str], plate_path: Path) -> None:
+    empty = tmp_path / "empty.mp4"
+    empty.write_bytes(b"")
+    code, _, err = track([str(empty), "--background", str(plate_path), "-o", str(tmp_path / "o.json")], capsys)
+    assert code == 1 and "empty" in one_line_error(err)
+
+
+def test_corrupt_video(tmp_path: Path, capsys: pytest.CaptureFixture[str], plate_path: Path) -> None:
+    corrupt = tmp_path / "corrupt.mp4"
+    data = (clip() / "video.mp4").read_bytes()
+    corrupt.write_bytes(data[:40] + bytes(len(data) // 3))  # header start, then zeros
+    code, _, err = track([str(corrupt), "--background", str(plate_path), "-o", str(tmp_path / "o.json")], capsys)
+    assert code == 1 and "corrupt.mp4" in one_line_error(err)
+
+
+def test_background_of_another_size(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    small = tmp_path / "small.png"
+    cv2.imwrite(str(small), np.zeros((100, 120, 3), np.uint8))
+    code, _, err = track(
+        [str(clip() / "video.mp4"), "--background", str(small), "-o", str(tmp_path / "o.json")], capsys
+    )
+    line = one_line_error(err)
+    assert code == 1 and "120x100" in line and "320x240" in line
+
+
+def test_unwritable_output(tmp_path: Path, capsys: pytest.CaptureFixture[str], plate_path: Path) -> None:
+    out = tmp_path / "missing-folder" / "o.json"
+    code, _, err = track([str(clip() / "video.mp4"), "--background", str(plate_path), "-o", str(out)], capsys)
+    assert code == 1 and "does not exist" in one_line_error(err)
+    code, _, err = track([str(clip() / "video.mp4"), "-o", str(tmp_path)], capsys)
+    assert code == 1 and "is a folder" in one_line_error(err)
+
+
+def test_bad_option_value(tmp_path: Path, capsys: pytest.CaptureFixture[str], plate_path: Path) -> None:
+    code, _, err = track(
+        [
+            str(clip() / "video.mp4"),
+            "--background",
+            str(plate_path),
+            "-o",
+            str(tmp_path / "o.json"),
+            "--particles",
+            "0",
+        ],
+        capsys,
+    )
+    assert code == 1 and "--particles" in one_line_error(err)
+
+
+def test_video_without_a_person(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], plate_path: Path, fake_search: TruthFitter
+) -> None:
+    plate = cv2.imread(str(plate_path))
+    rng = np.random.default_rng(1)
+    frames = [np.clip(plate + rng.integers(-2, 3, plate.shape), 0, 255).astype(np.uint8) for _ in range(20)]
+    video = write_video(tmp_path / "empty_room.mp4", frames)
+    out = tmp_path / "o.json"
+    code, _, err = track([str(video), "--background", str(plate_path), "-o", str(out)], capsys)
+    assert code == 1 and "no person found" in one_line_error(err)
+    doc = load_poses(out)  # still a valid file: every frame "no_person"
+    assert len(doc["frames"]) == 20 and {f["status"] for f in doc["frames"]} == {"no_person"}
+
+
+# -- determinism, with the real search ------------------------------------------------------------
+
+
+def test_same_seed_same_poses(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    folder = clip()
+    docs = []
+    for k, threads in enumerate(("1", "2")):
+        out = tmp_path / f"p{k}.json"
+        args = [str(folder / "video.mp4"), "--background", str(folder / "background.png"), "-o", str(out)]
+        code, _, _ = track(args + ["--particles", "8", "--iterations", "4", "--threads", threads, "--quiet"], capsys)
+        assert code == 0
+        doc = json.loads(out.read_text())
+        doc.pop("run_time_s")
+        docs.append(doc)
+    assert docs[0] == docs[1]
+    assert any(f["status"] == "tracked" for f in docs[0]["frames"])

@@ -1,0 +1,178 @@
+"""The tracker: state machine, start-up check, root, lost detection and recovery."""
+
+from __future__ import annotations
+
+import cv2
+import numpy as np
+import pytest
+
+import upperpose
+from tracker_helpers import TruthFitter, camera_of, clip, truth
+from upperpose.tracker import INITIALISING, LOST, NO_PERSON, TRACKED, StateMachine, Tracker, TrackerConfig
+from upperpose.tracker.recovery import HandFollower, LostDetector, unexplained_by_side
+from upperpose.tracker.startup import check_apose, depth_from_face, root_from_head
+from upperpose.tracker.video import VideoReader
+
+# -- pure units -------------------------------------------------------------------------------
+
+
+def test_state_machine_start_up_needs_consecutive_passes() -> None:
+    sm = StateMachine(confirm_frames=3, leave_frames=2)
+    assert not sm.startup(face_found=False, passed=False) and sm.status == NO_PERSON
+    assert not sm.startup(True, False) and sm.status == INITIALISING
+    assert not sm.startup(True, True) and sm.status == INITIALISING
+    assert not sm.startup(True, False) and sm.status == INITIALISING  # a failed check restarts the count
+    assert not sm.startup(True, True)
+    assert not sm.startup(True, True)
+    assert sm.startup(True, True) and sm.status == TRACKED
+    with pytest.raises(RuntimeError):
+        sm.startup(True, True)
+
+
+def test_state_machine_lost_and_leaving() -> None:
+    sm = StateMachine(confirm_frames=1, leave_frames=2)
+    assert sm.startup(True, True)
+    assert sm.tracking(present=True, lost=True) == LOST
+    assert sm.tracking(present=True, lost=False) == TRACKED
+    assert sm.tracking(present=False, lost=False) == TRACKED  # one absent frame is not enough
+    assert sm.tracking(present=True, lost=False) == TRACKED  # and the count restarts
+    assert sm.tracking(present=False, lost=False) == TRACKED
+    assert sm.tracking(present=False, lost=False) == NO_PERSON
+    assert not sm.has_person
+
+
+def test_apose_check_thresholds() -> None:
+    face = 40.0
+    good = np.array([[320.0, 100.0], [200.0, 300.0], [440.0, 300.0]])
+    check = check_apose(good, face)
+    assert check.passed and check.r_d == pytest.approx(1.0) and check.d3_faces == pytest.approx(6.0)
+    lopsided = np.array([[320.0, 100.0], [300.0, 140.0], [440.0, 400.0]])
+    assert not check_apose(lopsided, face).passed and "r_d" in check_apose(lopsided, face).reason
+    together = np.array([[320.0, 100.0], [310.0, 300.0], [330.0, 300.0]])
+    assert not check_apose(together, face).passed and "d3" in check_apose(together, face).reason
+    raised = np.array([[320.0, 100.0], [200.0, 50.0], [440.0, 50.0]])
+    assert not check_apose(raised, face).passed
+    missing = good.copy()
+    missing[2] = np.nan
+    assert not check_apose(missing, face).passed
+
+
+def test_root_from_head_reprojects_the_head() -> None:
+    camera = upperpose.Camera.for_image(640, 480)
+    body = upperpose.BodyModel()
+    pose = upperpose.Pose(torso_x=0.2, torso_z=0.1)
+    root = root_from_head(camera, [300.0, 150.0], 2.3, pose, body)
+    head = upperpose.project(camera, upperpose.forward_kinematics(pose, root, body))[0]
+    assert root[2] == 2.3
+    np.testing.assert_allclose(head, [300.0, 150.0], atol=1e-6)
+    # Twice the face width in pixels means half the depth.
+    assert depth_from_face(camera, 100.0) == pytest.approx(2 * depth_from_face(camera, 200.0))
+
+
+def test_lost_detector_counts_misses_and_pauses_without_evidence() -> None:
+    detector = LostDetector(threshold=1.0, frames=3)
+    joints = np.array([[320, 100], [270, 170], [370, 170], [250, 250], [390, 250], [240, 330], [400, 330]], float)
+    far = {"right_arm": 140.0, "left_arm": 5.0}  # shoulder width is 100 px
+    assert not detector.update(joints, far)["right_arm"]
+    assert not detector.update(joints, far)["right_arm"]
+    for _ in range(5):  # merged blob: no evidence, the count neither grows nor restarts
+        assert not detector.update(joints, {"right_arm": None, "left_arm": 5.0})["right_arm"]
+    assert detector.update(joints, far)["right_arm"]
+    assert not detector.lost["left_arm"]
+    assert not detector.update(joints, {"right_arm": 20.0, "left_arm": 5.0})["right_arm"]
+    # unexplained silhouette on an arm's side counts as a miss even without a skin point
+    for _ in range(3):
+        lost = detector.update(joints, {"right_arm": None, "left_arm": None}, {"right_arm": False, "left_arm": True})
+    assert lost == {"right_arm": False, "left_arm": True}
+
+
+def test_unexplained_silhouette_by_side() -> None:
+    labels = np.zeros((240, 320), np.uint8)
+    labels[60:200, 130:190] = 1  # the model: a torso
+    sil = (labels > 0).astype(np.uint8) * 255
+    sil[20:60, 60:80] = 255  # a raised arm on the image's left, not modelled
+    sil[230:240, 100:220] = 255  # legs below the model: ignored
+    loose = unexplained_by_side(sil, labels, neck_x=160.0)
+    assert loose == {"right_arm": 40 * 20, "left_arm": 0}
+
+
+def test_mean_shift_follows_a_skin_blob() -> None:
+    skin = np.zeros((240, 320), np.uint8)
+    cv2.circle(skin, (200, 150), 12, 255, -1)
+    follower = HandFollower(window_side=0.5)
+    follower.start("right_arm", (185.0, 140.0), shoulder_px=60.0)
+    centre = follower.step(skin)["right_arm"]
+    assert np.hypot(*(centre - [200.0, 150.0])) < 3.0
+    follower.stop("right_arm")
+    assert follower.step(skin) == {}
+
+
+# -- on a rendered clip, with a search double -------------------------------------------------
+
+
+def run_clip(fitter: TruthFitter, extra_empty: int = 0, force_lost_at: int | None = None) -> list[str]:
+    folder = clip()
+    plate = cv2.imread(str(folder / "background.png"))
+    tracker = Tracker(camera_of(folder), plate, TrackerConfig(), fps=15.0, fitter=fitter)
+    statuses = []
+    with VideoReader(folder / "video.mp4") as reader:
+        for i, frame in enumerate(reader):
+            if i == force_lost_at:
+                tracker.force_lost("right_arm")
+            statuses.append(tracker.update(frame).status)
+    rng = np.random.default_rng(0)
+    for _ in range(extra_empty):  # the person leaves: the empty room, with sensor noise
+        noisy = np.clip(plate.astype(np.int16) + rng.integers(-3, 4, plate.shape), 0, 255).astype(np.uint8)
+        statuses.append(tracker.update(noisy).status)
+    return statuses
+
+
+@pytest.fixture(scope="module")
+def gt() -> dict:
+    return truth(clip())
+
+
+def test_states_from_empty_room_to_tracked_and_back(gt: dict) -> None:
+    fitter = TruthFitter(gt)
+    statuses = run_clip(fitter, extra_empty=12)
+    first_person = next(i for i, f in enumerate(gt["frames"]) if f["status"] == "tracked")
+    assert all(s == NO_PERSON for s in statuses[:first_person])  # empty room
+    assert INITIALISING in statuses
+    start = statuses.index(TRACKED)
+    assert statuses.index(INITIALISING) < start < 50
+    assert statuses[start:50].count(TRACKED) >= 0.9 * (50 - start)
+    assert statuses[-1] == NO_PERSON and statuses[50:].count(NO_PERSON) >= 4  # the person left
+    # the start-up frame searches every part, around the A-pose
+    assert (start, "trajectory", ("torso", "right_arm", "left_arm")) in fitter.calls
+
+
+def test_recovery_after_a_forced_loss(gt: dict) -> None:
+    fitter = TruthFitter(gt)
+    statuses = run_clip(fitter, force_lost_at=40)
+    assert (40, "initial", ("right_arm",)) in fitter.calls  # the lost arm searches its full ranges
+    assert (40, "trajectory", ("torso", "right_arm", "left_arm")) not in fitter.calls
+    # the full-range search found the hand on its skin point: tracked again at once
+    assert statuses[40:].count(TRACKED) >= len(statuses[40:]) - 1
+
+
+def test_real_loss_is_detected_and_recovered(gt: dict) -> None:
+    # The search double puts the right arm overhead on frames 36-39 while the hand is down:
+    # the lost detector must fire, the arm be searched over its ranges and found again.
+    fitter = TruthFitter(gt, wrong=range(36, 44))
+    statuses = run_clip(fitter)
+    assert LOST in statuses[36:46]
+    lost_at = statuses.index(LOST, 36)
+    assert any(c[0] >= lost_at and c[1] == "initial" and c[2] == ("right_arm",) for c in fitter.calls)
+    assert statuses[-1] == TRACKED
+
+
+def test_track_video_streams_one_result_per_frame(gt: dict) -> None:
+    folder = clip()
+    stream = upperpose.track_video(
+        folder / "video.mp4", folder / "background.png", camera=camera_of(folder), fitter=TruthFitter(gt)
+    )
+    assert iter(stream) is stream  # a generator: nothing is kept between frames
+    results = list(stream)
+    assert [r.frame for r in results] == list(range(50))
+    assert results[0].status == NO_PERSON and results[-1].status == TRACKED
+    assert results[-1].joints_3d.shape == (7, 3) and results[-1].pose.shape == (13,)
