@@ -147,7 +147,7 @@ def evaluate(prediction: dict[str, Any], truth: dict[str, Any], pck_threshold_px
     )
 
 
-def _fmt(v: float | None, digits: int = 4) -> str:
+def _fmt(v: float | None, digits: int = 2) -> str:
     return "-" if v is None or not np.isfinite(v) else f"{v:.{digits}f}"
 
 
@@ -176,7 +176,7 @@ def format_table(scores: Scores) -> str:
         ("Total average x (px)", _fmt(scores.mean_abs_x_px)),
         ("Total average y (px)", _fmt(scores.mean_abs_y_px)),
         ("Total average 3D (mm)", _fmt(scores.mpjpe_3d_mm, 1)),
-        ("Frame rate (fps)", _fmt(scores.fps)),
+        ("Frame rate (fps)", _fmt(scores.fps, 1)),
     ]
     width = max(len(r[0]) for r in rows)
     lines = [f"{a:<{width}}  {b:>10}" for a, b in rows]

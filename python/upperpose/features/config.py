@@ -123,6 +123,15 @@ class FeatureConfig:
     """Arm silhouette: pixels the torso region is shrunk by before it is cut out (0: the
     torso+neck+head projection as it is)."""
 
+    exposure_tolerance: float = 0.04
+    """Light changes: when the frame's median brightness ratio to the plate, in some colour
+    channel, is off by more than this, I_sub and I_edge compare against the plate scaled by
+    the ratio (features/exposure.py). 0 compensates every frame; a large value never."""
+
+    exposure_step: int = 8
+    """Light changes: the ratio is measured on every `exposure_step`-th pixel of each row and
+    column."""
+
     bg_max_samples: int = 40
     """Background estimation: most frames sampled over the video for the temporal median."""
 
@@ -175,6 +184,10 @@ class FeatureConfig:
         ):
             if not getattr(self, name) > 0:
                 raise ValueError(f"{name} must be positive, got {getattr(self, name)}")
+        if not self.exposure_tolerance >= 0:
+            raise ValueError(f"exposure_tolerance must be >= 0, got {self.exposure_tolerance}")
+        if self.exposure_step < 1:
+            raise ValueError(f"exposure_step must be >= 1, got {self.exposure_step}")
         if self.bg_max_samples < 3:
             raise ValueError(f"bg_max_samples must be >= 3, got {self.bg_max_samples}")
 

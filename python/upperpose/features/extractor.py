@@ -8,10 +8,11 @@ import cv2
 import numpy as np
 import numpy.typing as npt
 
-from upperpose.features.background import Background, colour_change, square
+from upperpose.features.background import Background, Int16Image, colour_change, square
 from upperpose.features.blobs import find_skin_blobs
 from upperpose.features.checks import Frame, Mask, check_frame, check_mask
 from upperpose.features.config import FeatureConfig
+from upperpose.features.exposure import GREY_WEIGHTS, channel_gains, needs_compensation
 from upperpose.features.frame import FrameFeatures
 from upperpose.features.packing import pack_rows
 from upperpose.features.parts import (
@@ -65,6 +66,9 @@ class _Work:
             np.empty(shape, np.uint8),
         )
         self.grey_raw = np.empty(shape, np.uint8)
+        self.plate = np.empty(shape3, np.uint8)
+        self.plate_dx = np.empty(shape, np.int16)
+        self.plate_dy = np.empty(shape, np.int16)
         self.greys = [np.empty(shape, np.uint8), np.empty(shape, np.uint8)]
         self.int16 = [np.empty(shape, np.int16) for _ in range(5)]
         self.tmp = np.empty(shape, np.uint8)
@@ -135,6 +139,18 @@ class FeatureExtractor:
             cv2.cvtColor(frame, cv2.COLOR_BGR2GRAY, dst=grey)
         return grey
 
+    def _plate_for(self, frame: Frame) -> tuple[Frame, Int16Image, Int16Image]:
+        """The plate and its derivatives, scaled to the frame's light when it changed."""
+        bg, work = self.background, self._work
+        gains = channel_gains(frame, bg.plate, self.config.exposure_step)
+        if not needs_compensation(gains, self.config.exposure_tolerance):
+            return bg.plate, bg.dx, bg.dy
+        cv2.multiply(bg.plate, (*(float(g) for g in gains), 1.0), dst=work.plate, dtype=cv2.CV_8U)
+        grey_gain = float(gains @ GREY_WEIGHTS)
+        cv2.multiply(bg.dx, grey_gain, dst=work.plate_dx, dtype=cv2.CV_16S)
+        cv2.multiply(bg.dy, grey_gain, dst=work.plate_dy, dtype=cv2.CV_16S)
+        return work.plate, work.plate_dx, work.plate_dy
+
     def prime(self, previous: Frame) -> None:
         """Sets the previous frame for I_motion without computing its features.
 
@@ -181,16 +197,18 @@ class FeatureExtractor:
 
         grey = self._grey(frame)
         clock.lap("grey")
+        plate, plate_dx, plate_dy = self._plate_for(frame)
+        clock.lap("exposure")
         # I_sub: per-channel change against the plate, opened (noise) then closed (holes).
-        colour_change(frame, bg.plate, cfg.sub_threshold, work.change, out=work.tmp)
+        colour_change(frame, plate, cfg.sub_threshold, work.change, out=work.tmp)
         sub = _open_close(work.tmp, cfg.sub_open, cfg.sub_close, work.allowed, out["sub"])
         clock.lap("sub")
         # I_edge: |d/dx frame - d/dx plate| + |d/dy frame - d/dy plate| > threshold (§3.4.2).
         dx, dy, adx, ady, magnitude = work.int16
         cv2.Sobel(grey, cv2.CV_16S, 1, 0, dst=dx, ksize=3)
         cv2.Sobel(grey, cv2.CV_16S, 0, 1, dst=dy, ksize=3)
-        cv2.absdiff(dx, bg.dx, dst=adx)
-        cv2.absdiff(dy, bg.dy, dst=ady)
+        cv2.absdiff(dx, plate_dx, dst=adx)
+        cv2.absdiff(dy, plate_dy, dst=ady)
         cv2.add(adx, ady, dst=magnitude)
         edge = cv2.compare(magnitude, cfg.edge_threshold, cv2.CMP_GT, dst=out["edge"])
         clock.lap("edge")
