@@ -39,13 +39,17 @@ pub struct FrameView<'a> {
     pub skin: SkinPoints,
 }
 
+/// The widest image the search accepts (the cost's per-row counts are 16 bits wide).
+pub const MAX_WIDTH: u32 = 65535;
+
 /// Words per row of a bit-packed image `width` pixels wide.
 pub fn stride_for(width: u32) -> usize {
     (width as usize).div_ceil(64)
 }
 
 impl<'a> FrameView<'a> {
-    /// Checks that every plane holds `height` rows of `ceil(width / 64)` words.
+    /// Checks that every plane holds `height` rows of `ceil(width / 64)` words. Images are at
+    /// most [`MAX_WIDTH`] pixels wide: the cost counts pixels of a row in 16-bit fields.
     pub fn new(
         width: u32,
         height: u32,
@@ -58,6 +62,13 @@ impl<'a> FrameView<'a> {
             return Err(CoreError::InvalidShape {
                 name: "features",
                 expected: "a non-empty image".into(),
+                got: format!("{width}x{height}"),
+            });
+        }
+        if width > MAX_WIDTH {
+            return Err(CoreError::InvalidShape {
+                name: "features",
+                expected: format!("an image at most {MAX_WIDTH} pixels wide"),
                 got: format!("{width}x{height}"),
             });
         }
@@ -86,5 +97,25 @@ impl<'a> FrameView<'a> {
             },
             skin,
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn images_wider_than_the_counts_allow_are_rejected() {
+        let w = MAX_WIDTH + 1;
+        let plane = vec![0u64; stride_for(w)];
+        let err = FrameView::new(w, 1, &plane, &plane, &plane, SkinPoints::default()).unwrap_err();
+        assert!(
+            err.to_string().contains("at most 65535 pixels wide"),
+            "{err}"
+        );
+        let plane = vec![0u64; stride_for(MAX_WIDTH)];
+        assert!(
+            FrameView::new(MAX_WIDTH, 1, &plane, &plane, &plane, SkinPoints::default()).is_ok()
+        );
     }
 }

@@ -153,39 +153,89 @@ impl Skeleton {
     }
 }
 
-/// Poses the body: `root` is the root's position in the camera frame (metres).
-pub fn skeleton_from_pose(pose: &Pose, root: &Vector3<f64>, body: &BodyModel) -> Skeleton {
-    let torso = torso_rotation(pose);
-    let at = |local: Vector3<f64>| root + torso * local;
-    let arm = |side: Side| {
-        let shoulder_local = Vector3::new(
-            -side.mirror() * body.shoulder_width / 2.0,
-            -body.shoulder_height,
-            0.0,
-        );
-        let upper = torso * shoulder_rotation(pose, side);
-        let lower = upper * elbow_rotation(pose, side);
-        let shoulder = at(shoulder_local);
-        let elbow = shoulder + upper * Vector3::new(0.0, body.upper_arm_length, 0.0);
-        let hand = elbow + lower * Vector3::new(0.0, body.lower_arm_length, 0.0);
-        ArmFrames {
-            shoulder,
-            elbow,
-            hand,
-            upper,
-            lower,
+/// One arm in the camera frame, hanging from a torso with orientation `torso` at `root`.
+fn arm_frames(
+    pose: &Pose,
+    side: Side,
+    root: &Vector3<f64>,
+    torso: &Matrix3<f64>,
+    body: &BodyModel,
+) -> ArmFrames {
+    let shoulder_local = Vector3::new(
+        -side.mirror() * body.shoulder_width / 2.0,
+        -body.shoulder_height,
+        0.0,
+    );
+    let upper = torso * shoulder_rotation(pose, side);
+    let lower = upper * elbow_rotation(pose, side);
+    let shoulder = root + torso * shoulder_local;
+    let elbow = shoulder + upper * Vector3::new(0.0, body.upper_arm_length, 0.0);
+    let hand = elbow + lower * Vector3::new(0.0, body.lower_arm_length, 0.0);
+    ArmFrames {
+        shoulder,
+        elbow,
+        hand,
+        upper,
+        lower,
+    }
+}
+
+impl Skeleton {
+    /// This skeleton with the arm on `side` posed by `pose`'s angles and everything else kept:
+    /// an arm stage's candidates differ from their base only there.
+    pub fn with_arm(&self, pose: &Pose, side: Side, body: &BodyModel) -> Skeleton {
+        let mut s = *self;
+        let arm = arm_frames(pose, side, &self.root, &self.torso, body);
+        match side {
+            Side::Right => s.right = arm,
+            Side::Left => s.left = arm,
         }
-    };
-    Skeleton {
-        root: *root,
-        torso,
-        head: at(Vector3::new(
+        s
+    }
+
+    /// This skeleton with the trunk (root, torso, neck, head) posed by `pose` at `root` and the
+    /// arms kept as they were, so no longer attached: only for the trunk's own parts, which the
+    /// torso stage scores without the arms.
+    pub fn with_trunk(&self, pose: &Pose, root: &Vector3<f64>, body: &BodyModel) -> Skeleton {
+        let torso = torso_rotation(pose);
+        let (head, neck_base) = trunk_points(root, &torso, body);
+        Skeleton {
+            root: *root,
+            torso,
+            head,
+            neck_base,
+            ..*self
+        }
+    }
+}
+
+/// The head's centre and the neck's base of a torso with orientation `torso` at `root`.
+fn trunk_points(
+    root: &Vector3<f64>,
+    torso: &Matrix3<f64>,
+    body: &BodyModel,
+) -> (Vector3<f64>, Vector3<f64>) {
+    let at = |local: Vector3<f64>| root + torso * local;
+    (
+        at(Vector3::new(
             0.0,
             -body.shoulder_height - body.head_offset,
             0.0,
         )),
-        neck_base: at(Vector3::new(0.0, -body.shoulder_height, 0.0)),
-        right: arm(Side::Right),
-        left: arm(Side::Left),
+        at(Vector3::new(0.0, -body.shoulder_height, 0.0)),
+    )
+}
+
+/// Poses the body: `root` is the root's position in the camera frame (metres).
+pub fn skeleton_from_pose(pose: &Pose, root: &Vector3<f64>, body: &BodyModel) -> Skeleton {
+    let torso = torso_rotation(pose);
+    let (head, neck_base) = trunk_points(root, &torso, body);
+    Skeleton {
+        root: *root,
+        torso,
+        head,
+        neck_base,
+        right: arm_frames(pose, Side::Right, root, &torso, body),
+        left: arm_frames(pose, Side::Left, root, &torso, body),
     }
 }

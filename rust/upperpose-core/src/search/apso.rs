@@ -16,6 +16,7 @@ use super::rng::Rng;
 use crate::pose::DofRange;
 use rayon::prelude::*;
 use rayon::ThreadPool;
+use std::sync::Mutex;
 
 /// Settings of one swarm.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -112,10 +113,23 @@ where
         }
     }
 
+    // One scratch per worker, kept for the whole search (`map_init` would build one per split
+    // job, allocating every iteration). Each job scores at least n / (2 threads) particles:
+    // splitting a small swarm finer costs more in scheduling than it gains in balance.
+    let threads = pool.current_num_threads().max(1);
+    let scratch: Vec<Mutex<S>> = (0..threads).map(|_| Mutex::new(init())).collect();
+    let min_len = n.div_ceil(2 * threads).max(1);
     let evaluate = |x: &[f64]| -> Vec<f64> {
         pool.install(|| {
             x.par_chunks(d.max(1))
-                .map_init(&init, |scratch, p| cost(scratch, p))
+                .with_min_len(min_len)
+                .map(|p| {
+                    let k = rayon::current_thread_index().unwrap_or(0) % threads;
+                    // A worker holds its own scratch only while scoring (no nested jobs run
+                    // then); a poisoned lock only means a cost panicked, the buffers are fine.
+                    let mut s = scratch[k].lock().unwrap_or_else(|e| e.into_inner());
+                    cost(&mut s, p)
+                })
                 .collect()
         })
     };

@@ -12,7 +12,7 @@
 //! - `|sil ^ (base | part)| = |sil ^ base| + |part & !base| - 2 |part & !base & sil|`
 //! - Edge and Motion count feature pixels under the part's one-pixel contour.
 
-use crate::image::{BitPlane, FrameView};
+use crate::image::FrameView;
 use crate::raster::{BitMask, Roi, RowSpans, Scanner, Span};
 use nalgebra::Vector2;
 
@@ -70,35 +70,97 @@ impl CostTerms {
     }
 }
 
-/// Pixels of `plane` in columns `x0..x1` of row `y` (image coordinates inside the plane).
-#[inline]
-fn count_run(words: &[u64], stride: usize, y: i32, x0: i32, x1: i32) -> u32 {
-    if x0 >= x1 {
-        return 0;
-    }
-    let base = y as usize * stride;
-    let (x0, x1) = (x0 as usize, x1 as usize - 1);
-    let (w0, w1) = (x0 >> 6, x1 >> 6);
-    let head = u64::MAX << (x0 & 63);
-    let tail = u64::MAX >> (63 - (x1 & 63));
-    if w0 == w1 {
-        return (words[base + w0] & head & tail).count_ones();
-    }
-    let mut c = (words[base + w0] & head).count_ones() + (words[base + w1] & tail).count_ones();
-    for w in &words[base + w0 + 1..base + w1] {
-        c += w.count_ones();
-    }
-    c
+/// Running counts of up to four bit planes over a region: for each sampled row of the region
+/// and each column `x` of `roi.x..=roi.x + width`, the number of set pixels of every plane in
+/// columns `roi.x..x`, packed as four 16-bit lanes of one `u64`. The counts of a run `x0..x1`
+/// are then one subtraction, for all four planes at once (lanes never borrow: each count only
+/// grows). A lane holds at most the region's width, so regions are at most 65535 pixels wide
+/// ([`FrameView::new`] rejects wider images). Only the rows the stage samples are built.
+#[derive(Debug, Clone)]
+struct CountTable {
+    roi: Roi,
+    /// Where each row of the region starts in `cells` (unsampled rows: nowhere, never read).
+    row_start: Vec<usize>,
+    cells: Vec<u64>,
 }
+
+/// The count of plane `k` in a packed entry or difference of entries.
+#[inline]
+fn lane(v: u64, k: u32) -> u32 {
+    (v >> (16 * k)) as u32 & 0xffff
+}
+
+impl CountTable {
+    /// `planes` are full-frame bit planes with `stride` words per row; rows that are multiples
+    /// of `step` are built.
+    fn new(roi: Roi, step: i32, stride: usize, planes: [&[u64]; 4]) -> Self {
+        let row_len = roi.width as usize + 1;
+        let rows: Vec<i32> = (roi.y..roi.y + roi.height as i32)
+            .filter(|y| y % step.max(1) == 0)
+            .collect();
+        let mut row_start = vec![usize::MAX; roi.height as usize];
+        let mut cells = vec![0u64; row_len * rows.len()];
+        let (x0, x1) = (roi.x as usize, roi.x as usize + roi.width as usize);
+        for (r, (&y, out)) in rows.iter().zip(cells.chunks_exact_mut(row_len)).enumerate() {
+            row_start[(y - roi.y) as usize] = r * row_len;
+            let base = y as usize * stride;
+            let mut acc = 0u64;
+            let mut i = 1;
+            let mut x = x0;
+            // Word by word; most words of a plane are all clear or all set over the piece
+            // read, and then every pixel adds the same packed increment.
+            while x < x1 {
+                let (w, b) = (base + x / 64, x % 64);
+                let n = (64 - b).min(x1 - x);
+                let mask = u64::MAX >> (64 - n);
+                let bits = planes.map(|p| p[w] >> b & mask);
+                if bits.iter().all(|&v| v == 0 || v == mask) {
+                    let inc = (0..4).fold(0u64, |a, k| a | u64::from(bits[k] != 0) << (16 * k));
+                    for c in &mut out[i..i + n] {
+                        acc += inc;
+                        *c = acc;
+                    }
+                } else {
+                    for (j, c) in out[i..i + n].iter_mut().enumerate() {
+                        acc += (0..4).fold(0u64, |a, k| a | (bits[k] >> j & 1) << (16 * k));
+                        *c = acc;
+                    }
+                }
+                i += n;
+                x += n;
+            }
+        }
+        CountTable {
+            roi,
+            row_start,
+            cells,
+        }
+    }
+
+    /// The packed counts of columns `x0..x1` (inside the region, `x0 <= x1`) of image row `y`,
+    /// a sampled row.
+    #[inline]
+    fn run(&self, y: i32, x0: i32, x1: i32) -> u64 {
+        let row = self.row_start[(y - self.roi.y) as usize];
+        let at = |x: i32| self.cells[row + (x - self.roi.x) as usize];
+        at(x1) - at(x0)
+    }
+}
+
+/// Lanes of the stage's main table.
+const FREE: u32 = 0; // R & !base
+const SIL_FREE: u32 = 1; // R & !base & sil
+const EDGE: u32 = 2;
+const MOTION: u32 = 3;
+/// Lanes of the Arm term's table.
+const OUTSIDE: u32 = 0; // R & !torso
+const ARM_SIL: u32 = 1; // R & !torso & sil: the arm silhouette
 
 /// What an arm stage matches besides the silhouette: the arm silhouette (silhouette outside
 /// the torso region, thesis 3.4.5) against the part outside that region.
 #[derive(Debug, Clone)]
 struct ArmPlanes {
-    /// `R & !torso`.
-    outside: Vec<u64>,
-    /// `R & !torso & sil`: the arm silhouette.
-    feature: Vec<u64>,
+    counts: CountTable,
     feature_area: f64,
 }
 
@@ -106,11 +168,8 @@ struct ArmPlanes {
 #[derive(Debug, Clone)]
 pub struct StageRegion {
     pub roi: Roi,
-    stride: usize,
-    /// `R & !base`.
-    free: Vec<u64>,
-    /// `R & !base & sil`.
-    sil_free: Vec<u64>,
+    row_step: i32,
+    counts: CountTable,
     arm: Option<ArmPlanes>,
     area: f64,
     sil_area: f64,
@@ -118,8 +177,6 @@ pub struct StageRegion {
     xor0: f64,
     /// `|base & R|`.
     base_area: f64,
-    /// Whether any motion lies in the region: without it the Motion term is 0 and skipped.
-    has_motion: bool,
 }
 
 /// A full-frame mask of the region `roi`.
@@ -140,8 +197,16 @@ fn count(words: &[u64]) -> f64 {
 impl StageRegion {
     /// Prepares a stage: `base` is a full-frame mask of the rest of the body; `torso` (for arm
     /// stages whose Arm term is weighed) a full-frame mask of the fitted torso, neck and head.
-    pub fn new(frame: &FrameView, roi: Roi, base: &BitMask, torso: Option<&BitMask>) -> Self {
+    /// Candidates are counted on rows that are multiples of `row_step` (see [`evaluate`]).
+    pub fn new(
+        frame: &FrameView,
+        roi: Roi,
+        row_step: i32,
+        base: &BitMask,
+        torso: Option<&BitMask>,
+    ) -> Self {
         let r = region_mask(frame.width, frame.height, roi);
+        let stride = r.stride;
         let sil = frame.sil.words;
         let zip = |f: &dyn Fn(usize) -> u64| -> Vec<u64> { (0..r.words.len()).map(f).collect() };
         let free = zip(&|i| r.words[i] & !base.words[i]);
@@ -149,31 +214,30 @@ impl StageRegion {
         let xor = zip(&|i| r.words[i] & (sil[i] ^ base.words[i]));
         let base_in = zip(&|i| r.words[i] & base.words[i]);
         let sil_in = zip(&|i| r.words[i] & sil[i]);
+        let counts = CountTable::new(
+            roi,
+            row_step,
+            stride,
+            [&free, &sil_free, frame.edge.words, frame.motion.words],
+        );
         let arm = torso.map(|t| {
             let outside = zip(&|i| r.words[i] & !t.words[i]);
             let feature = zip(&|i| outside[i] & sil[i]);
             let feature_area = count(&feature);
+            let none = vec![0; r.words.len()];
             ArmPlanes {
-                outside,
-                feature,
+                counts: CountTable::new(roi, row_step, stride, [&outside, &feature, &none, &none]),
                 feature_area,
             }
         });
-        let has_motion = r
-            .words
-            .iter()
-            .zip(frame.motion.words)
-            .any(|(a, b)| a & b != 0);
         StageRegion {
             roi,
-            has_motion,
-            stride: r.stride,
+            row_step: row_step.max(1),
+            counts,
             area: f64::from(roi.width) * f64::from(roi.height),
             sil_area: count(&sil_in),
             xor0: count(&xor),
             base_area: count(&base_in),
-            free,
-            sil_free,
             arm,
         }
     }
@@ -194,29 +258,28 @@ pub struct SkinPair {
 
 /// Scores a candidate part, given as the scanners of its convex pieces.
 ///
-/// Only every `row_step`-th image row is rasterised and counted (rows on a grid shared by all
+/// Only every `row_step`-th image row (the region's) is rasterised and counted (rows on a grid shared by all
 /// pieces); area counts are scaled back by `row_step`, and a contour row's neighbours are the
 /// sampled rows above and below. `row_step = 1` is the exact cost.
 pub fn evaluate(
     region: &StageRegion,
-    frame: &FrameView,
     pieces: &[Scanner],
     skin: &[SkinPair],
     shoulder_px: f64,
-    row_step: i32,
     scratch: &mut Scratch,
 ) -> CostTerms {
     if scratch.spans.len() < pieces.len() {
         scratch.spans.resize_with(pieces.len(), RowSpans::default);
     }
-    let step = row_step.max(1);
+    let step = region.row_step;
     let spans = &mut scratch.spans[..pieces.len()];
     for (s, out) in pieces.iter().zip(spans.iter_mut()) {
         s.sampled_spans_into(&region.roi, step, out);
     }
-    let stride = region.stride;
+    let t = &region.counts;
 
-    // Area terms over the union of the pieces, row by row.
+    // Area terms over the union of the pieces, row by row. Every piece's rows lie on the same
+    // grid of multiples of `step`, so row `y` is entry `(y - s.y0) / step` of piece `s`.
     let (mut free, mut sil_free, mut arm_out, mut arm_feat) = (0u32, 0u32, 0u32, 0u32);
     let first = spans
         .iter()
@@ -226,18 +289,28 @@ pub fn evaluate(
         .unwrap_or(0);
     let end = spans.iter().map(|s| s.y(s.spans.len())).max().unwrap_or(0);
     let mut row: [Span; 4] = [Span::EMPTY; 4];
-    for y in (first..end).step_by(step as usize) {
+    let mut skip = [0i32; 4]; // grid rows between `first` and each piece's first row
+    for (d, s) in skip.iter_mut().zip(spans.iter()) {
+        *d = (s.y0 - first) / step;
+    }
+    let mut y = first;
+    let mut k = 0i32; // entry of row `y` on the grid counted from `first`
+    while y < end {
         let mut n = 0;
-        for s in spans.iter() {
-            let sp = s.row(y);
-            if !sp.is_empty() && n < row.len() {
+        for (s, d) in spans.iter().zip(skip) {
+            let i = k - d;
+            let sp = match usize::try_from(i).ok().and_then(|i| s.spans.get(i)) {
+                Some(sp) if !sp.is_empty() => *sp,
+                _ => continue,
+            };
+            if n < row.len() {
                 // Insertion by x0 keeps the (at most four) runs sorted.
-                let mut k = n;
-                while k > 0 && row[k - 1].x0 > sp.x0 {
-                    row[k] = row[k - 1];
-                    k -= 1;
+                let mut j = n;
+                while j > 0 && row[j - 1].x0 > sp.x0 {
+                    row[j] = row[j - 1];
+                    j -= 1;
                 }
-                row[k] = sp;
+                row[j] = sp;
                 n += 1;
             }
         }
@@ -249,14 +322,18 @@ pub fn evaluate(
                 i += 1;
                 run.x1 = run.x1.max(runs[i].x1);
             }
-            free += count_run(&region.free, stride, y, run.x0, run.x1);
-            sil_free += count_run(&region.sil_free, stride, y, run.x0, run.x1);
+            let c = t.run(y, run.x0, run.x1);
+            free += lane(c, FREE);
+            sil_free += lane(c, SIL_FREE);
             if let Some(a) = &region.arm {
-                arm_out += count_run(&a.outside, stride, y, run.x0, run.x1);
-                arm_feat += count_run(&a.feature, stride, y, run.x0, run.x1);
+                let c = a.counts.run(y, run.x0, run.x1);
+                arm_out += lane(c, OUTSIDE);
+                arm_feat += lane(c, ARM_SIL);
             }
             i += 1;
         }
+        y += step;
+        k += 1;
     }
 
     // Edge and motion under each piece's one-pixel contour.
@@ -271,8 +348,6 @@ pub fn evaluate(
             let in0 = (c.x0 + 1).max(up.x0).max(down.x0);
             let in1 = (c.x1 - 1).min(up.x1).min(down.x1);
             let y = s.y(i);
-            let add =
-                |a: i32, b: i32, plane: &BitPlane| count_run(plane.words, plane.stride, y, a, b);
             let runs = if up.is_empty() || down.is_empty() || in0 >= in1 {
                 [(c.x0, c.x1), (0, 0)]
             } else {
@@ -281,10 +356,9 @@ pub fn evaluate(
             for (a, b) in runs {
                 if a < b {
                     contour += (b - a) as u32;
-                    edge += add(a, b, &frame.edge);
-                    if region.has_motion {
-                        motion += add(a, b, &frame.motion);
-                    }
+                    let v = t.run(y, a, b);
+                    edge += lane(v, EDGE);
+                    motion += lane(v, MOTION);
                 }
             }
         }

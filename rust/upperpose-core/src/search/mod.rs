@@ -258,6 +258,8 @@ struct StageSetup<'a> {
     region: StageRegion,
     base_pose: Pose,
     base_root: Vector3<f64>,
+    /// The skeleton of `base_pose` at `base_root`.
+    base_skel: Skeleton,
     skin_target: Option<Vector2<f64>>,
     shoulder_px: f64,
     /// Search dimensions: the stage's angles, plus root dx, dy for the torso.
@@ -279,44 +281,54 @@ impl StageSetup<'_> {
         (p, r)
     }
 
-    fn terms(&self, pose: &Pose, root: &Vector3<f64>, scratch: &mut Scratch) -> Option<CostTerms> {
+    fn terms(
+        &self,
+        pose: &Pose,
+        root: &Vector3<f64>,
+        scratch: &mut EvalScratch,
+    ) -> Option<CostTerms> {
         let req = self.req;
-        let skel = skeleton_from_pose(pose, root, &req.body);
+        // Only the stage's own part moves: repose just that (docs/search.md).
+        let skel = match self.stage.side() {
+            Some(side) => self.base_skel.with_arm(pose, side, &req.body),
+            None => self.base_skel.with_trunk(pose, root, &req.body),
+        };
         if let (Some(side), true) = (self.stage.side(), self.config.non_penetration) {
             if constraints::arm_penetrates(&skel, &req.body, side) {
                 return None;
             }
         }
-        let scanners: Vec<Scanner> = outlines(self.stage.parts(), &skel, &req.body, &req.camera)?
-            .iter()
-            .map(Scanner::new)
-            .collect();
+        scratch.pieces.clear();
+        for &p in self.stage.parts() {
+            let o = outline_of_solid(&solid_of_part(p, &skel, &req.body), &req.camera)?;
+            scratch.pieces.push(Scanner::new(&o));
+        }
         let (joint, _) = self.stage.skin_joint();
-        let skin: Vec<SkinPair> = self
-            .skin_target
-            .and_then(|image| {
-                let model = req.camera.project(&skel.joints()[joint as usize])?;
-                Some(SkinPair { model, image })
-            })
-            .into_iter()
-            .collect();
-        let step = self.config.row_steps[self.stage as usize];
+        let skin = self.skin_target.and_then(|image| {
+            let model = req.camera.project(&skel.joints()[joint as usize])?;
+            Some(SkinPair { model, image })
+        });
         Some(evaluate(
             &self.region,
-            &req.frame,
-            &scanners,
-            &skin,
+            &scratch.pieces,
+            skin.as_slice(),
             self.shoulder_px,
-            step,
-            scratch,
+            &mut scratch.cost,
         ))
     }
 
-    fn cost(&self, x: &[f64], scratch: &mut Scratch) -> f64 {
+    fn cost(&self, x: &[f64], scratch: &mut EvalScratch) -> f64 {
         let (p, r) = self.candidate(x);
         self.terms(&p, &r, scratch)
             .map_or(f64::INFINITY, |t| t.total(&self.config.weights))
     }
+}
+
+/// Reusable buffers of one evaluating thread: no evaluation allocates.
+#[derive(Debug, Default)]
+struct EvalScratch {
+    pieces: Vec<Scanner>,
+    cost: Scratch,
 }
 
 /// Runs one stage on `pose` and `root` in place; returns the stage's terms at the result and
@@ -372,7 +384,8 @@ fn run_stage(
             req.frame.height,
         )
     });
-    let region = StageRegion::new(&req.frame, roi, &base, torso.as_ref());
+    let step = config.row_steps[stage as usize];
+    let region = StageRegion::new(&req.frame, roi, step, &base, torso.as_ref());
 
     let mut bounds: Vec<DofRange> = stage
         .dofs()
@@ -395,6 +408,7 @@ fn run_stage(
         region,
         base_pose: *pose,
         base_root: *root,
+        base_skel: skel,
         skin_target: req.frame.skin.points[stage.skin_joint().1],
         shoulder_px: b.shoulder_width * pixels_per_metre(&req.camera, root),
         bounds,
@@ -412,7 +426,7 @@ fn run_stage(
             &[start],
             &mut rng,
             pool,
-            Scratch::default,
+            EvalScratch::default,
             |scratch, x| setup.cost(x, scratch),
         );
         evaluations = result.evaluations;
@@ -421,7 +435,7 @@ fn run_stage(
         }
     }
     let terms = setup
-        .terms(pose, root, &mut Scratch::default())
+        .terms(pose, root, &mut EvalScratch::default())
         .unwrap_or_default();
     (terms, evaluations)
 }
