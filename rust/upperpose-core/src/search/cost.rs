@@ -289,21 +289,29 @@ pub fn evaluate(
         .unwrap_or(0);
     let end = spans.iter().map(|s| s.y(s.spans.len())).max().unwrap_or(0);
     let mut row: [Span; 4] = [Span::EMPTY; 4];
-    let mut skip = [0i32; 4]; // grid rows between `first` and each piece's first row
-    for (d, s) in skip.iter_mut().zip(spans.iter()) {
-        *d = (s.y0 - first) / step;
+    // Grid row `k` (counted from `first`) is entry `k - skip[p]` of piece `p`; for `k < skip[p]`
+    // the subtraction wraps past every length.
+    let m = spans.len().min(row.len());
+    let (mut skip, mut len) = ([0usize; 4], [0usize; 4]);
+    for (p, s) in spans[..m].iter().enumerate() {
+        skip[p] = ((s.y0 - first) / step).max(0) as usize;
+        len[p] = s.spans.len();
     }
-    let mut y = first;
-    let mut k = 0i32; // entry of row `y` on the grid counted from `first`
-    while y < end {
+    let rows = if end > first {
+        ((end - first) / step) as usize
+    } else {
+        0
+    };
+    for k in 0..rows {
+        let y = first + k as i32 * step;
         let mut n = 0;
-        for (s, d) in spans.iter().zip(skip) {
-            let i = k - d;
-            let sp = match usize::try_from(i).ok().and_then(|i| s.spans.get(i)) {
-                Some(sp) if !sp.is_empty() => *sp,
-                _ => continue,
-            };
-            if n < row.len() {
+        for p in 0..m {
+            let i = k.wrapping_sub(skip[p]);
+            if i >= len[p] {
+                continue;
+            }
+            let sp = spans[p].spans[i];
+            if !sp.is_empty() {
                 // Insertion by x0 keeps the (at most four) runs sorted.
                 let mut j = n;
                 while j > 0 && row[j - 1].x0 > sp.x0 {
@@ -332,8 +340,6 @@ pub fn evaluate(
             }
             i += 1;
         }
-        y += step;
-        k += 1;
     }
 
     // Edge and motion under each piece's one-pixel contour.
