@@ -197,10 +197,12 @@ fn count(words: &[u64]) -> f64 {
 impl StageRegion {
     /// Prepares a stage: `base` is a full-frame mask of the rest of the body; `torso` (for arm
     /// stages whose Arm term is weighed) a full-frame mask of the fitted torso, neck and head.
-    /// Candidates are counted on rows that are multiples of `row_step` (see [`evaluate`]).
+    /// Candidates are counted on rows that are multiples of `row_step` (see [`evaluate`]) and
+    /// only inside `reach`, the part of `roi` they can cover: the running counts are built there.
     pub fn new(
         frame: &FrameView,
         roi: Roi,
+        reach: Roi,
         row_step: i32,
         base: &BitMask,
         torso: Option<&BitMask>,
@@ -215,7 +217,7 @@ impl StageRegion {
         let base_in = zip(&|i| r.words[i] & base.words[i]);
         let sil_in = zip(&|i| r.words[i] & sil[i]);
         let counts = CountTable::new(
-            roi,
+            reach,
             row_step,
             stride,
             [&free, &sil_free, frame.edge.words, frame.motion.words],
@@ -226,7 +228,12 @@ impl StageRegion {
             let feature_area = count(&feature);
             let none = vec![0; r.words.len()];
             ArmPlanes {
-                counts: CountTable::new(roi, row_step, stride, [&outside, &feature, &none, &none]),
+                counts: CountTable::new(
+                    reach,
+                    row_step,
+                    stride,
+                    [&outside, &feature, &none, &none],
+                ),
                 feature_area,
             }
         });
