@@ -84,6 +84,36 @@ struct CountTable {
     cells: Vec<u64>,
 }
 
+/// Bit `i` of a byte moved to bit `4 i`: eight pixels of one plane spread into nibbles.
+const NIBBLES: [u32; 256] = {
+    let mut t = [0u32; 256];
+    let mut v = 0;
+    while v < 256 {
+        let mut i = 0;
+        while i < 8 {
+            t[v] |= ((v as u32 >> i) & 1) << (4 * i);
+            i += 1;
+        }
+        v += 1;
+    }
+    t
+};
+
+/// The packed increment of one pixel whose four plane bits form the nibble `k`.
+const INCREMENT: [u64; 16] = {
+    let mut t = [0u64; 16];
+    let mut v = 0;
+    while v < 16 {
+        let mut k = 0;
+        while k < 4 {
+            t[v] |= ((v as u64 >> k) & 1) << (16 * k);
+            k += 1;
+        }
+        v += 1;
+    }
+    t
+};
+
 /// The count of plane `k` in a packed entry or difference of entries.
 #[inline]
 fn lane(v: u64, k: u32) -> u32 {
@@ -121,9 +151,15 @@ impl CountTable {
                         *c = acc;
                     }
                 } else {
-                    for (j, c) in out[i..i + n].iter_mut().enumerate() {
-                        acc += (0..4).fold(0u64, |a, k| a | (bits[k] >> j & 1) << (16 * k));
-                        *c = acc;
+                    // Eight pixels at a time: their four plane bits as eight nibbles, each
+                    // nibble's packed increment looked up.
+                    for (q, chunk) in out[i..i + n].chunks_mut(8).enumerate() {
+                        let byte = |k: usize| NIBBLES[(bits[k] >> (8 * q)) as usize & 0xff];
+                        let nib = byte(0) | byte(1) << 1 | byte(2) << 2 | byte(3) << 3;
+                        for (j, c) in chunk.iter_mut().enumerate() {
+                            acc += INCREMENT[(nib >> (4 * j)) as usize & 15];
+                            *c = acc;
+                        }
                     }
                 }
                 i += n;
