@@ -17,6 +17,7 @@ from upperpose.features import (
     unpack_rows,
 )
 from upperpose.features.scene import render_scene, textured_background
+from upperpose.features.skin import skin_mask
 
 A_POSE = Pose.a_pose()
 MOVED = A_POSE.replace(right_z_up=0.85, right_x_down=0.3)
@@ -160,7 +161,7 @@ def test_skin_blob_on_background_without_edge_change_is_dropped(plate) -> None:
     assert features.blobs == []
 
 
-@pytest.mark.parametrize("space", ["ycrcb", "hsv"])
+@pytest.mark.parametrize("space", ["ycrcb", "hsv", "rgb"])
 def test_other_skin_spaces_find_the_hands(background, two_frames, space: str) -> None:
     config = FeatureConfig(skin_space=space)
     first = two_frames[0]
@@ -169,6 +170,18 @@ def test_other_skin_spaces_find_the_hands(background, two_frames, space: str) ->
     skin = features.skin > 0
     assert (skin & truth_skin).sum() > 0.8 * truth_skin.sum()
     assert (skin & ~first.mask).sum() < 0.02 * truth_skin.sum()
+
+
+def test_default_skin_rule_rejects_cloth_the_thesis_rule_takes() -> None:
+    # BGR: skin from light to dark, then yellow, purple and orange cloth with 20 <= R - G <= 80.
+    skin_tones = [(180, 200, 240), (120, 150, 200), (70, 100, 150), (40, 60, 100), (25, 40, 70)]
+    cloth = [(40, 190, 220), (110, 40, 100), (30, 120, 180)]
+    patches = np.array([skin_tones + cloth], np.uint8)
+    thesis = skin_mask(patches, FeatureConfig(skin_space="rgb"))[0] > 0
+    default = skin_mask(patches, FeatureConfig())[0] > 0
+    assert thesis.all()
+    assert default[: len(skin_tones)].all()
+    assert not default[len(skin_tones) :].any()
 
 
 def test_arm_silhouette_is_outside_the_torso(background, two_frames) -> None:

@@ -45,8 +45,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--skin",
         choices=SKIN_SPACES,
-        default="rgb",
-        help="skin colour rule (default: rgb, the thesis')",
+        default="rgb+ycrcb",
+        help="skin colour rule (default: rgb+ycrcb; rgb is the thesis' rule alone)",
     )
     p.add_argument(
         "--poses",

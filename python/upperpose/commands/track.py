@@ -3,12 +3,14 @@
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 import time
 import warnings
 from pathlib import Path
 
 NAME = "track"
+OPTIMIZERS = ("apso", "pso", "simplex", "apsopf")
 HELP = "track the upper body in a video: poses as JSON (SPEC 9), optionally CSV and an overlay video"
 
 
@@ -20,6 +22,24 @@ def add_search_arguments(p: argparse.ArgumentParser) -> None:
         "--threads", type=int, default=None, help="worker threads (default: UPPERPOSE_NUM_THREADS or all cores)"
     )
     p.add_argument("--seed", type=int, default=0, help="random seed (default 0): the same seed gives the same poses")
+    p.add_argument(
+        "--optimizer",
+        choices=OPTIMIZERS,
+        default="apso",
+        help="search method (default apso); pso, simplex and apsopf are the thesis' baselines (docs/baselines.md)",
+    )
+    p.add_argument(
+        "--sigma",
+        type=float,
+        default=None,
+        help="apsopf: Gaussian redistribution in half-widths of the box (default 1)",
+    )
+    p.add_argument(
+        "--limits",
+        choices=("anatomical", "thesis"),
+        default="anatomical",
+        help="joint angle ranges: anatomical (default) or the thesis' Table 3.5-1",
+    )
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -43,11 +63,17 @@ def tracker_config(args: argparse.Namespace):  # type: ignore[no-untyped-def]
         value = getattr(args, name, None)
         if value is not None and value < 1:
             raise ValueError(f"--{name} must be at least 1, got {value}")
+    sigma = getattr(args, "sigma", None)
+    if sigma is not None and not (math.isfinite(sigma) and sigma > 0):
+        raise ValueError(f"--sigma must be a positive number, got {sigma}")
     return TrackerConfig(
         particles=args.particles,
         iterations=args.iterations,
         threads=args.threads,
         seed=args.seed,
+        optimizer=getattr(args, "optimizer", "apso"),
+        sigma=sigma,
+        limits=getattr(args, "limits", "anatomical"),
         skip_static=not getattr(args, "no_skip", False),
     )
 

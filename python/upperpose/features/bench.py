@@ -13,7 +13,7 @@ import time
 import cv2
 
 from upperpose.features.background import Background
-from upperpose.features.config import FeatureConfig
+from upperpose.features.config import SKIN_SPACES, FeatureConfig
 from upperpose.features.extractor import FeatureExtractor
 from upperpose.features.scene import render_scene, textured_background
 from upperpose.model import Pose
@@ -88,7 +88,7 @@ def main() -> None:
     parser.add_argument("--width", type=int, default=640)
     parser.add_argument("--height", type=int, default=480)
     parser.add_argument("--frames", type=int, default=300)
-    parser.add_argument("--skin", default="rgb")
+    parser.add_argument("--skin", default="rgb+ycrcb", choices=SKIN_SPACES)
     parser.add_argument("--fresh-buffers", action="store_true", help="allocate new images every frame")
     args = parser.parse_args()
     result = benchmark_features(

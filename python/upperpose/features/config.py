@@ -6,8 +6,8 @@ import dataclasses
 from dataclasses import dataclass
 from typing import Literal
 
-SkinSpace = Literal["rgb", "ycrcb", "hsv"]
-SKIN_SPACES: tuple[str, ...] = ("rgb", "ycrcb", "hsv")
+SkinSpace = Literal["rgb", "ycrcb", "hsv", "rgb+ycrcb"]
+SKIN_SPACES: tuple[str, ...] = ("rgb", "ycrcb", "hsv", "rgb+ycrcb")
 
 
 @dataclass(frozen=True)
@@ -41,9 +41,11 @@ class FeatureConfig:
     motion_threshold: int = 15
     """I_motion: grey-level absolute difference between consecutive frames counted as motion."""
 
-    skin_space: SkinSpace = "rgb"
+    skin_space: SkinSpace = "rgb+ycrcb"
     """I_skin0 colour rule: "rgb" is the thesis' 20 <= R - G <= 80 (§2.5); "ycrcb" and "hsv"
-    are the alternatives §5.2 asks for (ranges below)."""
+    are the alternatives §5.2 asks for (ranges below); "rgb+ycrcb" keeps pixels inside both the
+    R - G band and the YCrCb rule's Cr/Cb box, at any brightness (the R - G band alone also
+    takes yellow and purple cloth)."""
 
     rgb_rg_min: int = 20
     """RGB rule: smallest R - G of a skin pixel."""

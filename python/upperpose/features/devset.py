@@ -23,7 +23,7 @@ from upperpose.features.background import (
     CleanPlateWarning,
     background_from_video,
 )
-from upperpose.features.config import FeatureConfig
+from upperpose.features.config import SKIN_SPACES, FeatureConfig
 from upperpose.features.extractor import FeatureExtractor
 
 POINT_JOINTS = (0, 5, 6)  # head, right hand, left hand in JOINT_NAMES
@@ -169,7 +169,7 @@ def main() -> None:
     """Prints per-clip scores for the chosen skin rules, with the clean plate and estimated."""
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("devset", type=Path)
-    parser.add_argument("--skin", nargs="+", default=["rgb"])
+    parser.add_argument("--skin", nargs="+", default=[FeatureConfig().skin_space], choices=SKIN_SPACES)
     parser.add_argument(
         "--estimated",
         action="store_true",

@@ -88,6 +88,14 @@ def skin_mask(
     """I_skin0 of a BGR frame with the colour rule `config.skin_space`; `(H, W)` uint8, 255 = skin."""
     if config.skin_space == "ycrcb":
         return skin_ycrcb(frame, config.ycrcb_min, config.ycrcb_max, work, out)
+    if config.skin_space == "rgb+ycrcb":
+        work = work or SkinWork(*frame.shape[:2])
+        rgb = skin_rgb(frame, config.rgb_rg_min, config.rgb_rg_max, work, out)
+        # Chroma only: the R - G band already bounds the colour, and skin in shadow is darker
+        # than the YCrCb rule's brightness floor.
+        low, high = (0, *config.ycrcb_min[1:]), (255, *config.ycrcb_max[1:])
+        ycrcb = skin_ycrcb(frame, low, high, work, work.second)
+        return cv2.bitwise_and(rgb, ycrcb, dst=rgb)
     if config.skin_space == "hsv":
         return skin_hsv(frame, config.hsv_hue_max, config.hsv_min_sv, config.hsv_max_s, work, out)
     return skin_rgb(frame, config.rgb_rg_min, config.rgb_rg_max, work, out)

@@ -94,8 +94,10 @@ class TrackerConfig:
     """Settings of the tracker (the search's own settings go to `upperpose.SearchConfig`).
 
     Attributes:
-        particles, iterations, threads, seed, limits: passed to `SearchConfig` when `search` is
-            None (None keeps the search's default).
+        particles, iterations, threads, seed, limits, optimizer, sigma: passed to `SearchConfig`
+            when `search` is None (None keeps the search's default). `optimizer` is "apso" (ours),
+            "pso", "simplex" or "apsopf" (the thesis' baselines, docs/baselines.md); `sigma` is
+            APSOPF's Gaussian redistribution.
         root_window: half-width in metres of the torso stage's search over the root's X and Y
             around the estimate of `RootEstimator` (also used after start-up and losses).
         search: a ready `upperpose.SearchConfig`; overrides the fields above.
@@ -126,6 +128,8 @@ class TrackerConfig:
     threads: int | None = None
     seed: int = 0
     limits: str = "anatomical"
+    optimizer: str = "apso"
+    sigma: float | None = None
     root_window: float = 0.04
     search: Any = None
     features: FeatureConfig | None = None
@@ -149,11 +153,17 @@ class TrackerConfig:
             from upperpose import SearchConfig  # type: ignore[attr-defined]
         except ImportError:
             return None
-        given = {"particles": self.particles, "iterations": self.iterations, "threads": self.threads}
+        given = {
+            "particles": self.particles,
+            "iterations": self.iterations,
+            "threads": self.threads,
+            "sigma": self.sigma,
+        }
         kwargs = {k: v for k, v in given.items() if v is not None}
         return SearchConfig(
             seed=self.seed,
             limits=self.limits,
+            optimizer=self.optimizer,
             root_window=self.root_window,
             initial_root_window=self.root_window,
             **kwargs,

@@ -5,7 +5,7 @@
 use nalgebra::{Vector2, Vector3};
 use proptest::prelude::*;
 use upperpose_core::image::{FrameView, SkinPoints};
-use upperpose_core::search::{fit_frame, FrameFit, FrameRequest, Mode, SearchConfig};
+use upperpose_core::search::{fit_frame, FrameFit, FrameRequest, Mode, Optimizer, SearchConfig};
 use upperpose_core::{
     skeleton_from_pose, BitMask, BodyModel, BodyRaster, Camera, Dof, Joint, Pose, Roi,
 };
@@ -283,6 +283,108 @@ proptest! {
         truth.set(Dof::TorsoY, dx);
         let f = features_of(&truth, &root, &body, &camera());
         let config = SearchConfig { seed, ..SearchConfig::default() };
+        let mut req = request(&f, truth, root, Mode::Initial);
+        req.frame_index = seed;
+        let fit = fit_frame(&req, &config).unwrap();
+        prop_assert!(config.limits.contains(&fit.pose));
+        prop_assert!(!upperpose_core::search::constraints::pose_penetrates(&fit.pose, &fit.root, &body) || upperpose_core::search::constraints::pose_penetrates(&truth, &root, &body));
+    }
+}
+
+// -- the baselines of the thesis' comparison (docs/baselines.md) -----------------------------------
+
+fn with_optimizer(optimizer: Optimizer) -> SearchConfig {
+    SearchConfig {
+        optimizer,
+        sigma: 0.5,
+        ..SearchConfig::default()
+    }
+}
+
+#[test]
+fn every_optimizer_gives_the_same_fit_whatever_the_thread_count() {
+    let root = Vector3::new(0.02, 0.12, 2.2);
+    let truth = test_poses()[1];
+    let f = features_of(&truth, &root, &BodyModel::default(), &camera());
+    let mut prediction = truth;
+    prediction.set(Dof::RightZUp, truth.get(Dof::RightZUp) - 0.1);
+    for optimizer in Optimizer::ALL {
+        let fit = |threads| {
+            let config = SearchConfig {
+                threads: Some(threads),
+                ..with_optimizer(optimizer)
+            };
+            fit_frame(&request(&f, prediction, root, Mode::Trajectory), &config).unwrap()
+        };
+        let one = fit(1);
+        assert_eq!(fit(2), one, "{optimizer:?}");
+        assert_eq!(fit(4), one, "{optimizer:?}");
+    }
+}
+
+#[test]
+fn every_optimizer_improves_on_a_noisy_prediction() {
+    // The A-pose has straight elbows, so the simplex's straight arms can fit it exactly.
+    let root = Vector3::new(0.0, 0.12, 2.2);
+    let truth = test_poses()[0];
+    let f = features_of(&truth, &root, &BodyModel::default(), &camera());
+    let mut prediction = truth;
+    for (d, dx) in [
+        (Dof::TorsoY, 0.1),
+        (Dof::RightZUp, -0.08),
+        (Dof::LeftZUp, 0.08),
+        (Dof::LeftXUp, 0.1),
+    ] {
+        prediction.set(d, truth.get(d) + dx);
+    }
+    let before = joints_2d(&prediction, &root)
+        .iter()
+        .zip(joints_2d(&truth, &root))
+        .map(|(p, q)| (p - q).norm())
+        .sum::<f64>()
+        / 7.0;
+    for optimizer in Optimizer::ALL {
+        let fit = fit_frame(
+            &request(&f, prediction, root, Mode::Trajectory),
+            &with_optimizer(optimizer),
+        )
+        .unwrap();
+        let err = mean_error(&fit, &truth, &root);
+        assert!(
+            err < 0.5 * before,
+            "{optimizer:?}: {err:.2} px from {before:.2}"
+        );
+    }
+}
+
+#[test]
+fn simplex_keeps_the_elbows_straight_and_apsopf_scores_silhouette_and_edge_only() {
+    let root = Vector3::new(0.02, 0.12, 2.2);
+    let truth = test_poses()[1];
+    let f = features_of(&truth, &root, &BodyModel::default(), &camera());
+    let req = request(&f, truth, root, Mode::Trajectory);
+    let fit = fit_frame(&req, &with_optimizer(Optimizer::Simplex)).unwrap();
+    assert_eq!(fit.pose.get(Dof::RightXDown), 0.0);
+    assert_eq!(fit.pose.get(Dof::LeftXDown), 0.0);
+    let fit = fit_frame(&req, &with_optimizer(Optimizer::Apsopf)).unwrap();
+    let w = SearchConfig::default().weights;
+    for (t, c) in fit.terms.iter().zip(fit.stage_costs) {
+        assert!((c - (w.sil * t.sil - w.edge * t.edge)).abs() < 1e-12);
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 16, failure_persistence: None, ..ProptestConfig::default() })]
+    #[test]
+    fn every_optimizer_respects_the_constraints(k in 0usize..4, seed in 0u64..1000, xd in 0.0..2.4f64, zu in 0.0..2.0f64) {
+        let optimizer = Optimizer::ALL[k];
+        let root = Vector3::new(0.0, 0.12, 2.2);
+        let body = BodyModel::default();
+        let mut truth = test_poses()[0];
+        truth.set(Dof::RightXDown, xd);
+        truth.set(Dof::LeftZUp, zu);
+        let f = features_of(&truth, &root, &body, &camera());
+        let config = SearchConfig { seed, ..with_optimizer(optimizer) };
         let mut req = request(&f, truth, root, Mode::Initial);
         req.frame_index = seed;
         let fit = fit_frame(&req, &config).unwrap();

@@ -10,7 +10,9 @@ use upperpose_core::image::{FrameView, SkinPoints};
 use upperpose_core::nalgebra::{Vector2, Vector3};
 use upperpose_core::search::apso::SwarmConfig;
 use upperpose_core::search::cost::{CostTerms, CostWeights};
-use upperpose_core::search::{fit_frame, FrameFit, FrameRequest, Mode, SearchConfig, STAGE_NAMES};
+use upperpose_core::search::{
+    fit_frame, FrameFit, FrameRequest, Mode, Optimizer, SearchConfig, STAGE_NAMES,
+};
 use upperpose_core::{skeleton_from_pose, JointLimits};
 
 use crate::convert::{array_from_points, pose_from_array, vector3_from_array};
@@ -40,6 +42,10 @@ fn terms_values(t: &CostTerms) -> [f64; 6] {
 ///         0 (the default) keeps the root given.
 ///     initial_root_window: the same in "initial" mode.
 ///     row_steps: (torso, right arm, left arm): score every n-th image row; 1 is exact.
+///     optimizer: "apso" (default), "pso" (no annealing), "simplex" (downhill simplex with
+///         straight arms, thesis [1]) or "apsopf" (APSO in a particle filter, silhouette and
+///         edge only, thesis [2]); docs/baselines.md.
+///     sigma: APSOPF's Gaussian redistribution in half-widths of the search box (default 1).
 #[pyclass(frozen, name = "SearchConfig", module = "upperpose._upperpose")]
 #[derive(Clone)]
 pub struct PySearchConfig {
@@ -52,7 +58,8 @@ impl PySearchConfig {
     #[new]
     #[pyo3(signature = (*, particles = None, iterations = None, c0 = None, annealing = None, max_speed = None,
                         weights = None, limits = "anatomical", non_penetration = true, threads = None, seed = 0,
-                        root_window = None, initial_root_window = None, row_steps = None))]
+                        root_window = None, initial_root_window = None, row_steps = None, optimizer = "apso",
+                        sigma = None))]
     #[allow(clippy::too_many_arguments)] // one keyword argument per setting
     fn new(
         particles: Option<usize>,
@@ -68,6 +75,8 @@ impl PySearchConfig {
         root_window: Option<f64>,
         initial_root_window: Option<f64>,
         row_steps: Option<(i32, i32, i32)>,
+        optimizer: &str,
+        sigma: Option<f64>,
     ) -> PyResult<Self> {
         let mut c = SearchConfig::default();
         let d = SwarmConfig::default();
@@ -159,6 +168,17 @@ impl PySearchConfig {
             }
             c.row_steps = [a, b, d];
         }
+        c.optimizer = Optimizer::from_name(optimizer).ok_or_else(|| {
+            PyValueError::new_err(format!(
+                "optimizer must be one of apso, pso, simplex, apsopf, got {optimizer:?}"
+            ))
+        })?;
+        if let Some(v) = sigma {
+            if !(v > 0.0 && v.is_finite()) {
+                return Err(PyValueError::new_err(format!("sigma must be > 0, got {v}")));
+            }
+            c.sigma = v;
+        }
         Ok(PySearchConfig {
             inner: c,
             limits_name: limits.to_string(),
@@ -215,6 +235,16 @@ impl PySearchConfig {
         let [a, b, c] = self.inner.row_steps;
         (a, b, c)
     }
+    /// The search method: "apso", "pso", "simplex" or "apsopf".
+    #[getter]
+    fn optimizer(&self) -> &'static str {
+        self.inner.optimizer.name()
+    }
+    /// APSOPF's Gaussian redistribution, in half-widths of the search box.
+    #[getter]
+    fn sigma(&self) -> f64 {
+        self.inner.sigma
+    }
     /// The six cost weights by term name.
     #[getter]
     fn weights(&self) -> HashMap<&'static str, f64> {
@@ -228,7 +258,8 @@ impl PySearchConfig {
     fn __repr__(&self) -> String {
         let s = &self.inner.swarm;
         format!(
-            "SearchConfig(particles={}, iterations={}, c0={}, annealing={}, limits={:?}, seed={})",
+            "SearchConfig(optimizer={:?}, particles={}, iterations={}, c0={}, annealing={}, limits={:?}, seed={})",
+            self.inner.optimizer.name(),
             s.particles,
             s.iterations,
             s.c0,

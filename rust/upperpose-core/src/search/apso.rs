@@ -238,6 +238,23 @@ mod tests {
         }
     }
 
+    #[test]
+    fn plain_pso_finds_the_sphere_minimum_and_a_low_rastrigin_basin() {
+        // The baseline without annealing (docs/baselines.md): w = c1 = c2 = c0 e^0.5 throughout.
+        let cfg = SwarmConfig {
+            particles: 40,
+            iterations: 200,
+            annealing: false,
+            ..SwarmConfig::default()
+        };
+        for seed in 0..3 {
+            let res = run(&boxes(5, -5.12, 5.12), &cfg, seed, 1, sphere);
+            assert!(res.cost < 1e-3, "{}", res.cost);
+            let r = run(&boxes(5, -5.12, 5.12), &cfg, seed, 2, rastrigin);
+            assert!(r.cost < 10.0, "{}", r.cost);
+        }
+    }
+
     fn median(mut v: Vec<f64>) -> f64 {
         v.sort_by(f64::total_cmp);
         v[v.len() / 2]

@@ -3,9 +3,12 @@
 //! swarm over its own angles inside one fixed region of the image.
 
 pub mod apso;
+pub mod apsopf;
 pub mod constraints;
 pub mod cost;
+pub mod optimizer;
 pub mod rng;
+pub mod simplex;
 
 use crate::body::BodyModel;
 use crate::camera::Camera;
@@ -17,9 +20,10 @@ use crate::parallel;
 use crate::pose::{Dof, DofRange, JointLimits, Pose};
 use crate::raster::{BitMask, Roi, Scanner};
 use crate::solid::{solid_of_part, Part};
-use apso::{minimise, SwarmConfig};
+use apso::SwarmConfig;
 use cost::{evaluate, CostTerms, CostWeights, Scratch, SkinPair, StageRegion};
 use nalgebra::{Vector2, Vector3};
+pub use optimizer::Optimizer;
 
 /// Where the swarm starts.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -101,6 +105,10 @@ pub struct SearchConfig {
     /// Rasterise and count every n-th image row when scoring candidates (torso, arms): the
     /// cost's sampling density against its price (docs/search.md). 1 is exact.
     pub row_steps: [i32; 3],
+    /// The search method: ours (APSO) or a baseline of the thesis' comparison.
+    pub optimizer: Optimizer,
+    /// APSOPF's Gaussian redistribution, in half-widths of the box.
+    pub sigma: f64,
 }
 
 impl Default for SearchConfig {
@@ -115,6 +123,8 @@ impl Default for SearchConfig {
             root_window: 0.0,
             initial_root_window: 0.0,
             row_steps: [3, 2, 2],
+            optimizer: Optimizer::Apso,
+            sigma: 1.0,
         }
     }
 }
@@ -448,10 +458,10 @@ fn run_stage(
             start.extend([0.0, 0.0]);
         }
         let mut rng = rng::Rng::for_stage(config.seed, req.frame_index, stage as u64);
-        let result = minimise(
+        let result = optimizer::minimise(
+            config,
             &setup.bounds,
-            &config.swarm,
-            &[start],
+            &start,
             &mut rng,
             pool,
             EvalScratch::default,
@@ -492,6 +502,7 @@ fn check(req: &FrameRequest) -> Result<()> {
 pub fn fit_frame(req: &FrameRequest, config: &SearchConfig) -> Result<FrameFit> {
     check(req)?;
     let pool = parallel::pool(parallel::resolve_threads(config.threads)?)?;
+    let config = &*optimizer::effective(config);
     let mut pose = config.limits.clamp(&req.prediction);
     // y_down is not searched; keep the prediction's value even outside the limits' clamp.
     let mut root = req.root;
