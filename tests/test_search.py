@@ -86,7 +86,8 @@ def test_same_seed_same_fit_for_1_and_2_threads(camera: upperpose.Camera, body: 
 
 def test_fit_releases_the_gil(camera: upperpose.Camera, body: upperpose.BodyModel) -> None:
     f = ideal(WAVE, camera)
-    config = upperpose.SearchConfig(particles=64, iterations=60, threads=1)
+    # Enough work that the fit lasts well over 50 ms even after the cost got faster.
+    config = upperpose.SearchConfig(particles=128, iterations=250, threads=1)
     ticks = 0
     done = threading.Event()
 

@@ -84,6 +84,36 @@ struct CountTable {
     cells: Vec<u64>,
 }
 
+/// Bit `i` of a byte moved to bit `4 i`: eight pixels of one plane spread into nibbles.
+const NIBBLES: [u32; 256] = {
+    let mut t = [0u32; 256];
+    let mut v = 0;
+    while v < 256 {
+        let mut i = 0;
+        while i < 8 {
+            t[v] |= ((v as u32 >> i) & 1) << (4 * i);
+            i += 1;
+        }
+        v += 1;
+    }
+    t
+};
+
+/// The packed increment of one pixel whose four plane bits form the nibble `k`.
+const INCREMENT: [u64; 16] = {
+    let mut t = [0u64; 16];
+    let mut v = 0;
+    while v < 16 {
+        let mut k = 0;
+        while k < 4 {
+            t[v] |= ((v as u64 >> k) & 1) << (16 * k);
+            k += 1;
+        }
+        v += 1;
+    }
+    t
+};
+
 /// The count of plane `k` in a packed entry or difference of entries.
 #[inline]
 fn lane(v: u64, k: u32) -> u32 {
@@ -121,9 +151,15 @@ impl CountTable {
                         *c = acc;
                     }
                 } else {
-                    for (j, c) in out[i..i + n].iter_mut().enumerate() {
-                        acc += (0..4).fold(0u64, |a, k| a | (bits[k] >> j & 1) << (16 * k));
-                        *c = acc;
+                    // Eight pixels at a time: their four plane bits as eight nibbles, each
+                    // nibble's packed increment looked up.
+                    for (q, chunk) in out[i..i + n].chunks_mut(8).enumerate() {
+                        let byte = |k: usize| NIBBLES[(bits[k] >> (8 * q)) as usize & 0xff];
+                        let nib = byte(0) | byte(1) << 1 | byte(2) << 2 | byte(3) << 3;
+                        for (j, c) in chunk.iter_mut().enumerate() {
+                            acc += INCREMENT[(nib >> (4 * j)) as usize & 15];
+                            *c = acc;
+                        }
                     }
                 }
                 i += n;
@@ -197,10 +233,12 @@ fn count(words: &[u64]) -> f64 {
 impl StageRegion {
     /// Prepares a stage: `base` is a full-frame mask of the rest of the body; `torso` (for arm
     /// stages whose Arm term is weighed) a full-frame mask of the fitted torso, neck and head.
-    /// Candidates are counted on rows that are multiples of `row_step` (see [`evaluate`]).
+    /// Candidates are counted on rows that are multiples of `row_step` (see [`evaluate`]) and
+    /// only inside `reach`, the part of `roi` they can cover: the running counts are built there.
     pub fn new(
         frame: &FrameView,
         roi: Roi,
+        reach: Roi,
         row_step: i32,
         base: &BitMask,
         torso: Option<&BitMask>,
@@ -215,7 +253,7 @@ impl StageRegion {
         let base_in = zip(&|i| r.words[i] & base.words[i]);
         let sil_in = zip(&|i| r.words[i] & sil[i]);
         let counts = CountTable::new(
-            roi,
+            reach,
             row_step,
             stride,
             [&free, &sil_free, frame.edge.words, frame.motion.words],
@@ -226,7 +264,12 @@ impl StageRegion {
             let feature_area = count(&feature);
             let none = vec![0; r.words.len()];
             ArmPlanes {
-                counts: CountTable::new(roi, row_step, stride, [&outside, &feature, &none, &none]),
+                counts: CountTable::new(
+                    reach,
+                    row_step,
+                    stride,
+                    [&outside, &feature, &none, &none],
+                ),
                 feature_area,
             }
         });
@@ -289,21 +332,29 @@ pub fn evaluate(
         .unwrap_or(0);
     let end = spans.iter().map(|s| s.y(s.spans.len())).max().unwrap_or(0);
     let mut row: [Span; 4] = [Span::EMPTY; 4];
-    let mut skip = [0i32; 4]; // grid rows between `first` and each piece's first row
-    for (d, s) in skip.iter_mut().zip(spans.iter()) {
-        *d = (s.y0 - first) / step;
+    // Grid row `k` (counted from `first`) is entry `k - skip[p]` of piece `p`; for `k < skip[p]`
+    // the subtraction wraps past every length.
+    let m = spans.len().min(row.len());
+    let (mut skip, mut len) = ([0usize; 4], [0usize; 4]);
+    for (p, s) in spans[..m].iter().enumerate() {
+        skip[p] = ((s.y0 - first) / step).max(0) as usize;
+        len[p] = s.spans.len();
     }
-    let mut y = first;
-    let mut k = 0i32; // entry of row `y` on the grid counted from `first`
-    while y < end {
+    let rows = if end > first {
+        ((end - first) / step) as usize
+    } else {
+        0
+    };
+    for k in 0..rows {
+        let y = first + k as i32 * step;
         let mut n = 0;
-        for (s, d) in spans.iter().zip(skip) {
-            let i = k - d;
-            let sp = match usize::try_from(i).ok().and_then(|i| s.spans.get(i)) {
-                Some(sp) if !sp.is_empty() => *sp,
-                _ => continue,
-            };
-            if n < row.len() {
+        for p in 0..m {
+            let i = k.wrapping_sub(skip[p]);
+            if i >= len[p] {
+                continue;
+            }
+            let sp = spans[p].spans[i];
+            if !sp.is_empty() {
                 // Insertion by x0 keeps the (at most four) runs sorted.
                 let mut j = n;
                 while j > 0 && row[j - 1].x0 > sp.x0 {
@@ -332,8 +383,6 @@ pub fn evaluate(
             }
             i += 1;
         }
-        y += step;
-        k += 1;
     }
 
     // Edge and motion under each piece's one-pixel contour.

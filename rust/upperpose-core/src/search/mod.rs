@@ -260,6 +260,28 @@ fn stage_roi(stage: Stage, req: &FrameRequest, skel: &Skeleton, half: &[f64]) ->
     })
 }
 
+/// The box of the stage's parts as posed, with a margin of 2 px for rounding, inside `roi`.
+fn part_box(stage: Stage, req: &FrameRequest, skel: &Skeleton, roi: Roi) -> Option<Roi> {
+    let (mut x0, mut y0, mut x1, mut y1) = (i32::MAX, i32::MAX, i32::MIN, i32::MIN);
+    for o in outlines(stage.parts(), skel, &req.body, &req.camera)? {
+        if let Some(b) = o.bounds() {
+            x0 = x0.min(b.0.floor() as i32 - 2);
+            y0 = y0.min(b.1.floor() as i32 - 2);
+            x1 = x1.max(b.2.ceil() as i32 + 3);
+            y1 = y1.max(b.3.ceil() as i32 + 3);
+        }
+    }
+    let (x0, y0) = (x0.max(roi.x), y0.max(roi.y));
+    let x1 = x1.min(roi.x + roi.width as i32).max(x0);
+    let y1 = y1.min(roi.y + roi.height as i32).max(y0);
+    Some(Roi {
+        x: x0,
+        y: y0,
+        width: (x1 - x0) as u32,
+        height: (y1 - y0) as u32,
+    })
+}
+
 /// Everything one stage needs to score candidates.
 struct StageSetup<'a> {
     stage: Stage,
@@ -394,8 +416,14 @@ fn run_stage(
             req.frame.height,
         )
     });
+    // A stage that is not searched is scored once, where it stands: count only around that.
+    let reach = if req.search[stage as usize] {
+        roi
+    } else {
+        part_box(stage, req, &skel, roi).unwrap_or(roi)
+    };
     let step = config.row_steps[stage as usize];
-    let region = StageRegion::new(&req.frame, roi, step, &base, torso.as_ref());
+    let region = StageRegion::new(&req.frame, roi, reach, step, &base, torso.as_ref());
 
     let mut bounds: Vec<DofRange> = stage
         .dofs()
