@@ -123,8 +123,9 @@ class TrackerConfig:
         startup_width_scales: the torso and shoulder widths tried at start-up, as factors of
             the adult averages; the fit with the lowest cost is kept (a model of the wrong
             width fits best turned, and then stays turned). Empty: the averages.
-        startup_frontal: fit the start-up frame with the torso's turn held at zero (the
-            person faces the camera in the A-pose).
+        startup_frontal: fit the start-up frame with the torso's turn held at zero. Off by
+            default: over three seeds on the development set it lost more frames than it
+            saved (docs/tracker.md); the turn's own window (+-0.05 rad x 3) is narrow enough.
         velocity_window_gain: an arm's trajectory windows are widened by 1 + gain x its last
             frame-to-frame change (largest angle change, in units of 0.15 rad at 30 fps), so
             that a fast wave does not outrun them.
@@ -153,7 +154,7 @@ class TrackerConfig:
     recovery_window_scale: float = 2.0
     startup_window_scale: float = 3.0
     startup_width_scales: tuple[float, ...] = (0.75, 0.8, 0.85, 0.9, 0.95, 1.0, 1.05, 1.1, 1.15, 1.2)
-    startup_frontal: bool = True
+    startup_frontal: bool = False
     velocity_window_gain: float = 0.5
     fair_recovery: bool = True
 
