@@ -24,6 +24,7 @@ fn bench(c: &mut Criterion) {
         camera: s.camera,
         mode: Mode::Trajectory,
         window_scale: 1.0,
+        angle_window_scales: [1.0; 13],
         frame_interval: 1.0 / 30.0,
         search,
         frame_index: 1,

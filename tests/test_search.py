@@ -143,6 +143,7 @@ def test_search_config_checks_and_reports_its_settings() -> None:
     c = upperpose.SearchConfig(particles=10, weights={"edge": 3.0}, limits="thesis", row_steps=(1, 1, 1))
     assert (c.particles, c.limits, c.row_steps) == (10, "thesis", (1, 1, 1))
     assert c.weights["edge"] == 3.0 and c.weights["sil"] == upperpose.SearchConfig().weights["sil"]
+    assert upperpose.SearchConfig(behind_weight=0.0, behind_margin=0.3).behind_margin == 0.3
     for bad, message in [
         ({"particles": 0}, "particles must be >= 1"),
         ({"weights": {"elbow": 1.0}}, 'unknown weight "elbow"'),
@@ -150,6 +151,7 @@ def test_search_config_checks_and_reports_its_settings() -> None:
         ({"threads": 0}, "threads must be >= 1"),
         ({"row_steps": (0, 1, 1)}, "row_steps must all be >= 1"),
         ({"c0": -1.0}, "c0 must be > 0"),
+        ({"behind_weight": -1.0}, "behind_weight must be >= 0"),
     ]:
         with pytest.raises(ValueError, match=message):
             upperpose.SearchConfig(**bad)

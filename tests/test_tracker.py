@@ -8,9 +8,10 @@ import pytest
 
 import upperpose
 from tracker_helpers import TruthFitter, camera_of, clip, truth
-from upperpose.tracker import INITIALISING, LOST, NO_PERSON, TRACKED, StateMachine, Tracker, TrackerConfig
+from upperpose.features.packing import pack_rows
+from upperpose.tracker import INITIALISING, LOST, NO_PERSON, TRACKED, StateMachine, StaticFit, Tracker, TrackerConfig
 from upperpose.tracker.recovery import HandFollower, LostDetector, unexplained_by_side
-from upperpose.tracker.startup import check_apose, depth_from_face, root_from_head
+from upperpose.tracker.startup import check_apose, depth_from_face, fit_widths, root_from_head
 from upperpose.tracker.video import VideoReader
 
 # -- pure units -------------------------------------------------------------------------------
@@ -107,6 +108,49 @@ def test_mean_shift_follows_a_skin_blob() -> None:
     assert follower.step(skin) == {}
 
 
+class _Rendered:
+    """Ideal features of a rendered pose (silhouette, contours as edges, joints as skin points)."""
+
+    def __init__(self, pose: upperpose.Pose, root: np.ndarray, body: upperpose.BodyModel, camera: upperpose.Camera):
+        m = upperpose.render_masks(pose, root, camera, 640, 480, body)
+        self.sil_bits = pack_rows(m["silhouette"])
+        self.edge_bits = pack_rows((m["contour"] > 0).astype(np.uint8))
+        self.motion_bits = pack_rows(np.zeros_like(m["contour"]))
+        self.points = upperpose.project(camera, upperpose.forward_kinematics(pose, root, body))[[0, 5, 6]].copy()
+        self.size = (480, 640)
+
+    def points_array(self) -> np.ndarray:
+        return self.points
+
+
+@pytest.mark.parametrize("true_scale", [0.85, 1.1])
+def test_start_up_width_is_chosen_by_the_cost(true_scale: float, camera: upperpose.Camera) -> None:
+    # A person in the A-pose, narrower or wider than the measured width: the fit with the
+    # true width has the lowest cost, frontal (turn held at zero).
+    base = upperpose.BodyModel()
+    dims = base.as_dict()
+    for key in ("shoulder_width", "torso_half_width", "torso_half_depth"):
+        dims[key] *= true_scale
+    person = upperpose.BodyModel(**dims)
+    root = np.array([0.02, 0.12, 2.2])
+    pose = upperpose.Pose.a_pose()
+    frontal = np.ones(13)
+    frontal[0] = 0.0
+    body, fit = fit_widths(
+        upperpose.fit_frame,
+        _Rendered(pose, root, person, camera),
+        pose.angles,
+        root,
+        base,
+        camera,
+        (0.8, 0.85, 0.9, 0.95, 1.0, 1.05, 1.1, 1.15),
+        window_scale=3.0,
+        angle_window_scales=frontal,
+    )
+    assert body.shoulder_width == pytest.approx(person.shoulder_width)
+    assert fit.pose[0] == 0.0
+
+
 # -- on a rendered clip, with a search double -------------------------------------------------
 
 
@@ -164,6 +208,40 @@ def test_real_loss_is_detected_and_recovered(gt: dict) -> None:
     lost_at = statuses.index(LOST, 36)
     assert any(c[0] >= lost_at and c[1] == "initial" and c[2] == ("right_arm",) for c in fitter.calls)
     assert statuses[-1] == TRACKED
+
+
+class RegionBiasedFitter(TruthFitter):
+    """The search double, with the full-range search's bias: its larger regions lower the cost
+    of any pose (here by 0.1), and it returns a wrong right arm (raised overhead)."""
+
+    def __call__(self, features: object, prediction: object, root: object, body: object, camera: object, **kw: object):  # type: ignore[no-untyped-def]
+        fit = super().__call__(features, prediction, root, body, camera, **kw)
+        if kw["mode"] != "initial":
+            return fit
+        pose = np.array(fit.pose)
+        if "right_arm" in kw["search"]:  # type: ignore[operator]
+            pose[3:8] = [0.0, 0.0, 2.8, 0.0, 0.0]
+        joints = upperpose.forward_kinematics(pose, fit.root, body)
+        return StaticFit(pose, fit.root, joints, upperpose.project(camera, joints), fit.cost - 0.1)
+
+
+@pytest.mark.parametrize("fair", [True, False])
+def test_a_lost_arm_compares_both_fits_in_the_same_regions(gt: dict, fair: bool) -> None:
+    # Scored in its own (larger) regions the wrong full-range fit wins; scored against the
+    # trajectory fit in the same regions it does not.
+    fitter = RegionBiasedFitter(gt)
+    folder = clip()
+    plate = cv2.imread(str(folder / "background.png"))
+    tracker = Tracker(camera_of(folder), plate, TrackerConfig(fair_recovery=fair), fps=15.0, fitter=fitter)
+    raised = []
+    with VideoReader(folder / "video.mp4") as reader:
+        for i, frame in enumerate(reader):
+            if i == 40:
+                tracker.force_lost("right_arm")
+            pose = tracker.update(frame).pose
+            raised.append(pose is not None and pose[5] == 2.8)
+    assert ((40, "initial", ()) in fitter.calls) == fair  # the trajectory fit rescored
+    assert any(raised[40:]) != fair
 
 
 def test_track_video_streams_one_result_per_frame(gt: dict) -> None:

@@ -44,6 +44,7 @@ def fit_frame(
     search: Iterable[str] = STAGES,
     frame_index: int = 0,
     config: SearchConfig | None = None,
+    angle_window_scales: npt.ArrayLike | None = None,
 ) -> FrameFit:
     """Fits the body model to one frame: torso, then right arm, then left arm.
 
@@ -63,6 +64,8 @@ def fit_frame(
         frame_index: keys the random streams: the same seed, frame and inputs give the same fit
             whatever the thread count.
         config: search settings; defaults when None.
+        angle_window_scales: `(13,)` multipliers of each angle's trajectory window on top of
+            `window_scale` (>= 0; 0 pins the angle at the prediction); all 1 when None.
 
     Returns:
         The `FrameFit` (pose, root, joints, cost and its terms, evaluations).
@@ -93,6 +96,7 @@ def fit_frame(
         list(search),
         int(frame_index),
         config or SearchConfig(),
+        None if angle_window_scales is None else as_float_array(angle_window_scales, "angle_window_scales", (13,)),
     )
 
 

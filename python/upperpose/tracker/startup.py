@@ -15,7 +15,9 @@ measured from the silhouette (`measure_body(silhouette=...)`) but is not by defa
 
 from __future__ import annotations
 
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import numpy.typing as npt
@@ -238,6 +240,62 @@ def measure_body(
     return body, root
 
 
+def fit_widths(
+    fitter: Callable[..., Any],
+    features: Any,
+    pose: npt.ArrayLike,
+    root: npt.ArrayLike,
+    body: BodyModel,
+    camera: Camera,
+    scales: Sequence[float],
+    measure: Callable[[BodyModel], BodyModel] | None = None,
+    **fit_args: Any,
+) -> tuple[BodyModel, Any]:
+    """Fits the frame once per width in `scales`; keeps the lowest-cost fit.
+
+    The shoulder and torso widths are scaled by each factor in turn. The silhouette's width is
+    only roughly the model's (clothes, sloping shoulders, the silhouette's closing), and a model
+    of the wrong width fits a frontal person best turned, a turn the tracking then keeps. The
+    cost itself decides the width.
+
+    Args:
+        fitter: `upperpose.fit_frame` or a callable with its signature.
+        features: the frame's features.
+        pose: the pose to search around.
+        root: the root position, metres.
+        body: the body whose widths are scaled.
+        camera: the camera.
+        scales: factors of the widths to try.
+        measure: applied to each candidate before fitting (e.g. the arm lengths measured
+            from the shoulders of that width).
+        fit_args: passed on to `fitter` (mode, window_scale, search, ...).
+
+    Returns:
+        (body, fit): the chosen body model and its fit.
+    """
+    best: tuple[float, BodyModel, Any] | None = None
+    for k in scales:
+        dims = body.as_dict()
+        for key in ("shoulder_width", "torso_half_width", "torso_half_depth"):
+            dims[key] = dims[key] * k
+        candidate = BodyModel(**dims)
+        if measure is not None:
+            candidate = measure(candidate)
+        fit = fitter(
+            features,
+            np.asarray(pose, dtype=np.float64),
+            np.ascontiguousarray(root, dtype=np.float64),
+            candidate,
+            camera,
+            **fit_args,
+        )
+        if best is None or float(fit.cost) < best[0]:
+            best = (float(fit.cost), candidate, fit)
+    if best is None:
+        raise ValueError("scales must not be empty")
+    return best[1], best[2]
+
+
 __all__ = [
     "FACE_WIDTH_M",
     "APoseCheck",
@@ -246,6 +304,7 @@ __all__ = [
     "choose_face",
     "depth_from_face",
     "face_centre",
+    "fit_widths",
     "measure_body",
     "shoulder_span",
     "root_from_head",

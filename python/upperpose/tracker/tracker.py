@@ -38,6 +38,7 @@ from upperpose.tracker.startup import (
     check_apose,
     choose_face,
     face_centre,
+    fit_widths,
     measure_body,
     startup_points,
 )
@@ -121,6 +122,18 @@ class TrackerConfig:
             a recovery.
         startup_window_scale: the first frame is searched around the A-pose with trajectory
             windows widened by this factor.
+        startup_width_scales: the torso and shoulder widths tried at start-up, as factors of
+            the adult averages; the fit with the lowest cost is kept (a model of the wrong
+            width fits best turned, and then stays turned). Empty: the averages.
+        startup_frontal: fit the start-up frame with the torso's turn held at zero. Off by
+            default: over three seeds on the development set it lost more frames than it
+            saved (docs/tracker.md); the turn's own window (+-0.05 rad x 3) is narrow enough.
+        velocity_window_gain: an arm's trajectory windows are widened by 1 + gain x its last
+            frame-to-frame change (largest angle change, in units of 0.15 rad at 30 fps), so
+            that a fast wave does not outrun them.
+        fair_recovery: a lost arm's full-range fit replaces the trajectory fit only when it
+            costs less in the same image regions (the full-range search's regions are larger,
+            which lowers its normalised cost for the same fit).
     """
 
     particles: int | None = None
@@ -144,6 +157,10 @@ class TrackerConfig:
     velocity_damping: float = 0.7
     recovery_window_scale: float = 2.0
     startup_window_scale: float = 3.0
+    startup_width_scales: tuple[float, ...] = (0.75, 0.8, 0.85, 0.9, 0.95, 1.0, 1.05, 1.1, 1.15, 1.2)
+    startup_frontal: bool = False
+    velocity_window_gain: float = 0.5
+    fair_recovery: bool = True
 
     def search_config(self) -> Any:
         """The `upperpose.SearchConfig` to use (None when the extension has none)."""
@@ -372,25 +389,47 @@ class Tracker:
         timings = {"features": t1 - t0, "startup": t2 - t1}
         if not self.state.startup(face is not None, passed) or face is None:
             return TrackResult(index, self.state.status, timings=timings)
-        self._start(features, face, points)
-        # The person stands in the A-pose facing the camera: search around it with wide windows
-        # rather than over the whole anatomical ranges (a turned torso with an arm along it fits
-        # a frontal A-pose silhouette almost as well).
-        scale = self.config.startup_window_scale
-        fit = self._fit(features, self._pose, self._root.root, "trajectory", PARTS, index, 1.0 / self.fps, scale)
+        fit = self._start(features, face, points, index)
         t3 = time.perf_counter()
         timings.update(search=t3 - t2)
         result = self._accept(fit, features, index, PARTS, timings)
         timings["other"] = time.perf_counter() - t3
         return result
 
-    def _start(self, features: FrameFeatures, face: FaceBox, points: FloatArray) -> None:
-        body, root = measure_body(
-            self.camera,
-            face,
-            points,
+    def _start(self, features: FrameFeatures, face: FaceBox, points: FloatArray, index: int) -> FitLike:
+        """Measures the person, sets up the per-person state and fits the start-up frame."""
+        cfg = self.config
+        scales = cfg.startup_width_scales
+        face_width = float(np.median(self._face_widths)) if self._face_widths else None
+        _, root = measure_body(self.camera, face, points, self._base_body, face_width_px=face_width)
+
+        def arms_for(candidate: BodyModel) -> BodyModel:
+            # The arm lengths are measured from the shoulders, which move with the width.
+            return measure_body(self.camera, face, points, candidate, face_width_px=face_width)[0]
+
+        # The person stands in the A-pose facing the camera: search around it with wide windows
+        # rather than over the whole anatomical ranges (a turned torso with an arm along it fits
+        # a frontal A-pose silhouette almost as well), the turn held at zero.
+        pose = Pose.a_pose().angles.copy()
+        angle_scales = np.ones(13)
+        if cfg.startup_frontal:
+            angle_scales[0] = 0.0
+        body, fit = fit_widths(
+            self._fitter,
+            features,
+            pose,
+            root,
             self._base_body,
-            face_width_px=float(np.median(self._face_widths)) if self._face_widths else None,
+            self.camera,
+            scales or (1.0,),
+            measure=arms_for,
+            mode="trajectory",
+            window_scale=cfg.startup_window_scale,
+            frame_interval=1.0 / self.fps,
+            search=PARTS,
+            frame_index=index,
+            config=self._search_config,
+            angle_window_scales=angle_scales,
         )
         centre = face_centre(face)
         head_blob_width, bias = None, np.zeros(2)
@@ -406,6 +445,7 @@ class Tracker:
         self._previous_pose = self._pose.copy()
         self._lost.reset()
         self._follow.reset()
+        return fit
 
     # -- tracking -----------------------------------------------------------------------------
 
@@ -443,20 +483,46 @@ class Tracker:
         trajectory = tuple(p for p in PARTS if p in moving or p in lost)
         scale = self.config.recovery_window_scale if self._recovered else 1.0
         if trajectory:
-            fit: FitLike = self._fit(features, prediction, root, "trajectory", trajectory, index, interval, scale)
+            fit: FitLike = self._fit(
+                features, prediction, root, "trajectory", trajectory, index, interval, scale, self._arm_scales(interval)
+            )
         else:
             fit = self._static_fit(prediction, root)
         if lost:
             wide = self._fit(
                 features, np.asarray(fit.pose), np.asarray(fit.root), "initial", tuple(lost), index, interval
             )
-            if float(wide.cost) < float(fit.cost):
+            # Costs are normalised by each stage's region, and the wide search's regions are
+            # larger (everything the arm can reach), so its raw cost is lower for the same
+            # fit. Score the trajectory fit in the same regions before comparing.
+            if self.config.fair_recovery:
+                same = self._fit(features, np.asarray(fit.pose), np.asarray(fit.root), "initial", (), index, interval)
+                narrow_cost = float(same.cost)
+            else:
+                narrow_cost = float(fit.cost)
+            if float(wide.cost) < narrow_cost:
                 fit = wide
         t2 = time.perf_counter()
         searched = trajectory
         result = self._accept(fit, features, index, searched, {"features": t1 - t0, "search": t2 - t1})
         result.timings["other"] = time.perf_counter() - t2
         return result
+
+    def _arm_scales(self, interval: float) -> FloatArray | None:
+        """Per-angle window factors: each arm's windows grow with its last change.
+
+        The windows cap an arm's speed; the prediction follows a steady motion, the wider
+        window absorbs a speed-up (a wave starting, an arm thrown up).
+        """
+        gain = self.config.velocity_window_gain
+        if gain <= 0:
+            return None
+        scales = np.ones(13)
+        step = np.abs(self._pose - self._previous_pose) / (0.15 * interval * 30.0)
+        for part in ("right_arm", "left_arm"):
+            sl = PART_ANGLES[part]
+            scales[sl] = 1.0 + gain * float(np.max(step[sl]))
+        return scales
 
     def _fit(
         self,
@@ -468,7 +534,9 @@ class Tracker:
         index: int,
         interval: float,
         window_scale: float = 1.0,
+        angle_scales: FloatArray | None = None,
     ) -> FitLike:
+        extra = {} if angle_scales is None else {"angle_window_scales": angle_scales}
         return self._fitter(
             features,
             np.ascontiguousarray(prediction, dtype=np.float64),
@@ -481,6 +549,7 @@ class Tracker:
             search=search,
             frame_index=index,
             config=self._search_config,
+            **extra,
         )
 
     def _static_fit(self, pose: FloatArray, root: FloatArray) -> StaticFit:

@@ -13,7 +13,7 @@ use upperpose_core::search::cost::{CostTerms, CostWeights};
 use upperpose_core::search::{
     fit_frame, FrameFit, FrameRequest, Mode, Optimizer, SearchConfig, STAGE_NAMES,
 };
-use upperpose_core::{skeleton_from_pose, JointLimits};
+use upperpose_core::{skeleton_from_pose, JointLimits, DOF_COUNT};
 
 use crate::convert::{array_from_points, pose_from_array, vector3_from_array};
 use crate::errors::IntoPy;
@@ -46,6 +46,9 @@ fn terms_values(t: &CostTerms) -> [f64; 6] {
 ///         straight arms, thesis [1]) or "apsopf" (APSO in a particle filter, silhouette and
 ///         edge only, thesis [2]); docs/baselines.md.
 ///     sigma: APSOPF's Gaussian redistribution in half-widths of the search box (default 1).
+///     behind_weight: weight of the prior against a hand behind the body (per arm length
+///         behind the shoulder beyond `behind_margin`); 0 turns it off.
+///     behind_margin: arm lengths a hand may lie behind the shoulder for free.
 #[pyclass(frozen, name = "SearchConfig", module = "upperpose._upperpose")]
 #[derive(Clone)]
 pub struct PySearchConfig {
@@ -59,7 +62,7 @@ impl PySearchConfig {
     #[pyo3(signature = (*, particles = None, iterations = None, c0 = None, annealing = None, max_speed = None,
                         weights = None, limits = "anatomical", non_penetration = true, threads = None, seed = 0,
                         root_window = None, initial_root_window = None, row_steps = None, optimizer = "apso",
-                        sigma = None))]
+                        sigma = None, behind_weight = None, behind_margin = None))]
     #[allow(clippy::too_many_arguments)] // one keyword argument per setting
     fn new(
         particles: Option<usize>,
@@ -77,6 +80,8 @@ impl PySearchConfig {
         row_steps: Option<(i32, i32, i32)>,
         optimizer: &str,
         sigma: Option<f64>,
+        behind_weight: Option<f64>,
+        behind_margin: Option<f64>,
     ) -> PyResult<Self> {
         let mut c = SearchConfig::default();
         let d = SwarmConfig::default();
@@ -150,6 +155,8 @@ impl PySearchConfig {
                 initial_root_window,
                 &mut c.initial_root_window,
             ),
+            ("behind_weight", behind_weight, &mut c.behind_weight),
+            ("behind_margin", behind_margin, &mut c.behind_margin),
         ] {
             if let Some(v) = v {
                 if !(v >= 0.0 && v.is_finite()) {
@@ -228,6 +235,14 @@ impl PySearchConfig {
     #[getter]
     fn initial_root_window(&self) -> f64 {
         self.inner.initial_root_window
+    }
+    #[getter]
+    fn behind_weight(&self) -> f64 {
+        self.inner.behind_weight
+    }
+    #[getter]
+    fn behind_margin(&self) -> f64 {
+        self.inner.behind_margin
     }
     /// Every n-th image row is scored, per stage (torso, right arm, left arm); 1 is exact.
     #[getter]
@@ -371,12 +386,14 @@ fn plane<'a>(
 ///     search: stage names to search ("torso", "right_arm", "left_arm").
 ///     frame_index: keys the random streams.
 ///     config: the search settings.
+///     angle_window_scales: `(13,)` multipliers of each angle's trajectory window on top of
+///         `window_scale` (>= 0; 0 pins the angle at the prediction); all 1 when None.
 ///
 /// Returns:
 ///     The `FrameFit`.
 #[pyfunction(name = "fit_frame_bits")]
 #[pyo3(signature = (sil, edge, motion, points, width, prediction, root, body, camera, mode, window_scale,
-                    frame_interval, search, frame_index, config))]
+                    frame_interval, search, frame_index, config, angle_window_scales=None))]
 #[allow(clippy::too_many_arguments)]
 pub fn fit_frame_bits_py(
     py: Python<'_>,
@@ -395,7 +412,21 @@ pub fn fit_frame_bits_py(
     search: Vec<String>,
     frame_index: u64,
     config: &PySearchConfig,
+    angle_window_scales: Option<PyReadonlyArray1<'_, f64>>,
 ) -> PyResult<PyFrameFit> {
+    let mut scales = [1.0; DOF_COUNT];
+    if let Some(a) = &angle_window_scales {
+        let got = a.as_slice().map_err(|_| {
+            PyTypeError::new_err("angle_window_scales must be a C-contiguous float64 array")
+        })?;
+        if got.len() != DOF_COUNT {
+            return Err(PyValueError::new_err(format!(
+                "angle_window_scales must have {DOF_COUNT} values, got {}",
+                got.len()
+            )));
+        }
+        scales.copy_from_slice(got);
+    }
     let height = sil.shape()[0];
     let stride = (width as usize).div_ceil(64);
     let (s, e, m) = (
@@ -449,6 +480,7 @@ pub fn fit_frame_bits_py(
         camera: camera.inner,
         mode,
         window_scale,
+        angle_window_scales: scales,
         frame_interval,
         search: flags,
         frame_index,

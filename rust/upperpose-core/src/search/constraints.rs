@@ -6,8 +6,13 @@ use crate::pose::{Dof, DofRange, JointLimits, Pose};
 use nalgebra::Vector3;
 
 /// Half-width of the trajectory window at 30 frames per second, radians (SPEC 5).
+///
+/// The torso's turn gets a narrow window: a person facing the camera turns slowly, and a
+/// turned torso fits a frontal silhouette almost as well when the model's width is off, so a
+/// wide window let the fit drift into a turn it never left (docs/tracker.md).
 pub fn window_half_width(dof: Dof) -> f64 {
     match dof {
+        Dof::TorsoY => 0.05,
         Dof::TorsoZ | Dof::RightZUp | Dof::LeftZUp => 0.10,
         _ => 0.15,
     }

@@ -17,7 +17,7 @@ use crate::image::FrameView;
 use crate::kinematics::{skeleton_from_pose, Joint, Side, Skeleton};
 use crate::outline::{outline_of_solid, Outline};
 use crate::parallel;
-use crate::pose::{Dof, DofRange, JointLimits, Pose};
+use crate::pose::{Dof, DofRange, JointLimits, Pose, DOF_COUNT};
 use crate::raster::{BitMask, Roi, Scanner};
 use crate::solid::{solid_of_part, Part};
 use apso::SwarmConfig;
@@ -109,6 +109,13 @@ pub struct SearchConfig {
     pub optimizer: Optimizer,
     /// APSOPF's Gaussian redistribution, in half-widths of the box.
     pub sigma: f64,
+    /// Weight of the prior against a hand behind the body: added to an arm's cost per arm
+    /// length that the hand lies behind the shoulder (in the torso's frame) beyond
+    /// `behind_margin` arm lengths. 0 turns it off.
+    pub behind_weight: f64,
+    /// Arm lengths a hand may lie behind the shoulder for free (an arm swinging while
+    /// walking goes about 0.3 behind).
+    pub behind_margin: f64,
 }
 
 impl Default for SearchConfig {
@@ -125,6 +132,8 @@ impl Default for SearchConfig {
             row_steps: [3, 2, 2],
             optimizer: Optimizer::Apso,
             sigma: 1.0,
+            behind_weight: 2.0,
+            behind_margin: 0.2,
         }
     }
 }
@@ -143,6 +152,9 @@ pub struct FrameRequest<'a> {
     pub mode: Mode,
     /// Multiplies the trajectory windows (widen after a poor fit).
     pub window_scale: f64,
+    /// Multiplies each angle's trajectory window on top of `window_scale` (`Dof` order, >= 0;
+    /// 0 pins the angle at the prediction): a fast arm gets a wider window.
+    pub angle_window_scales: [f64; DOF_COUNT],
     /// Seconds since the previous frame; windows scale with it (SPEC 5).
     pub frame_interval: f64,
     /// Which stages to search (motion flags); the others keep the prediction.
@@ -351,8 +363,27 @@ impl StageSetup<'_> {
 
     fn cost(&self, x: &[f64], scratch: &mut EvalScratch) -> f64 {
         let (p, r) = self.candidate(x);
-        self.terms(&p, &r, scratch)
-            .map_or(f64::INFINITY, |t| t.total(&self.config.weights))
+        self.terms(&p, &r, scratch).map_or(f64::INFINITY, |t| {
+            t.total(&self.config.weights) + self.behind(&p, &r)
+        })
+    }
+
+    /// The prior against a hand behind the body (docs/search.md): the silhouette of an arm
+    /// swung forwards is nearly the mirror image of one swung backwards, and people facing a
+    /// camera rarely reach behind themselves.
+    fn behind(&self, p: &Pose, r: &Vector3<f64>) -> f64 {
+        let (Some(side), w) = (self.stage.side(), self.config.behind_weight) else {
+            return 0.0;
+        };
+        if w == 0.0 {
+            return 0.0;
+        }
+        let b = &self.req.body;
+        let skel = skeleton_from_pose(p, r, b);
+        let arm = skel.arm(side);
+        // Depth of the hand behind the shoulder in the torso's frame (+Z: away from the camera).
+        let d = skel.torso.transpose() * (arm.hand - arm.shoulder);
+        w * (d.z / (b.upper_arm_length + b.lower_arm_length) - self.config.behind_margin).max(0.0)
     }
 }
 
@@ -379,7 +410,7 @@ fn run_stage(
     let mut half: Vec<f64> = stage
         .dofs()
         .iter()
-        .map(|&d| constraints::window_half_width(d) * scale)
+        .map(|&d| constraints::window_half_width(d) * scale * req.angle_window_scales[d as usize])
         .collect();
     let root_half = match req.mode {
         Mode::Initial => config.initial_root_window,
@@ -481,6 +512,15 @@ fn run_stage(
 fn check(req: &FrameRequest) -> Result<()> {
     positive("window_scale", req.window_scale)?;
     positive("frame_interval", req.frame_interval)?;
+    for &s in &req.angle_window_scales {
+        if !(s.is_finite() && s >= 0.0) {
+            return Err(CoreError::OutOfRange {
+                name: "angle_window_scales",
+                expected: "finite and >= 0",
+                value: s,
+            });
+        }
+    }
     for (name, v) in [
         ("root[0]", req.root.x),
         ("root[1]", req.root.y),

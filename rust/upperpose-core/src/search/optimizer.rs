@@ -64,7 +64,7 @@ fn straight_arms(limits: &JointLimits) -> JointLimits {
 }
 
 /// The settings the method really runs with: [1] with straight elbows, [2] with the
-/// silhouette and edge terms only. APSO and PSO run `config` as it is.
+/// silhouette and edge terms only (and none of our priors). APSO and PSO run `config` as it is.
 pub fn effective(config: &SearchConfig) -> Cow<'_, SearchConfig> {
     match config.optimizer {
         Optimizer::Apso | Optimizer::Pso => Cow::Borrowed(config),
@@ -83,6 +83,7 @@ pub fn effective(config: &SearchConfig) -> Cow<'_, SearchConfig> {
                 arm: 0.0,
                 ratio: 0.0,
             };
+            c.behind_weight = 0.0;
             Cow::Owned(c)
         }
     }
