@@ -97,7 +97,7 @@ def table(results: list[dict]) -> str:
 def main() -> None:
     """Command line."""
     p = argparse.ArgumentParser()
-    p.add_argument("--devset", default="/work/main/dev-set")
+    p.add_argument("--devset", default="dev-set")
     p.add_argument("--out", default="/tmp/devset-runs")
     p.add_argument("--no-plate", action="store_true")
     p.add_argument("--clips", default="")
