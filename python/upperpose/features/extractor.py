@@ -239,7 +239,9 @@ class FeatureExtractor:
         edge_dilated = _dilate(edge, self._dilate, out["edge_dilated"])
         motion_dilated = _dilate(motion, self._dilate, out["motion_dilated"])
         clock.lap("dilate")
-        blobs = find_skin_blobs(skin, edge, cfg)
+        # P_SB counts edges within a pixel of the blob: its outline edges lie in a band that the
+        # skin mask, shrunk by colour blending and its opening, often stops just short of.
+        blobs = find_skin_blobs(skin, edge_dilated, cfg)
         clock.lap("blobs")
         head, right_hand, left_hand = locate_points(blobs, joints, cfg)
         clock.lap("points")

@@ -112,6 +112,29 @@ def assign(
     return matched, merged
 
 
+def hand_slab(
+    blob: SkinBlob,
+    elbow: npt.NDArray[np.float64],
+    hand: npt.NDArray[np.float64],
+    shoulder_px: float,
+    config: FeatureConfig,
+) -> float:
+    """Length in pixels of the hand's far-end slab of `blob` along the predicted forearm.
+
+    `hand_length` shoulder widths, shortened as the predicted forearm is foreshortened (an arm
+    pointing at the camera): the hand then projects shorter too, and a full-length slab would
+    reach back over the bare forearm. Only when the blob reaches the predicted elbow (a bare
+    forearm): a blob that is the hand alone (long sleeves) is all hand, whatever the forearm's
+    angle, and the wrist may bend the hand back into the image plane.
+    """
+    full = config.hand_length * shoulder_px
+    forearm = float(np.hypot(*(hand - elbow)))
+    if not np.isfinite(forearm) or blob.distance_to(elbow) > config.forearm_reach * forearm:
+        return full
+    shortening = forearm / (config.forearm_length * shoulder_px)
+    return full * min(1.0, max(config.hand_min_foreshortening, shortening))
+
+
 def points_with_prediction(
     blobs: list[SkinBlob], joints: npt.NDArray[np.float64], config: FeatureConfig
 ) -> list[SkinPoint | None]:
@@ -130,11 +153,7 @@ def points_with_prediction(
         unit(joints[RIGHT_HAND] - joints[RIGHT_ELBOW]),
         unit(joints[LEFT_HAND] - joints[LEFT_ELBOW]),
     ]
-    lengths = [
-        config.head_length * shoulder_px,
-        config.hand_length * shoulder_px,
-        config.hand_length * shoulder_px,
-    ]
+    head_length = config.head_length * shoulder_px
     points: list[SkinPoint | None] = []
     for k in range(3):
         index = matched[k]
@@ -145,8 +164,11 @@ def points_with_prediction(
         direction = directions[k]
         if merged[k] or direction is None:
             xy = blob.centroid
+        elif k == 0:
+            xy = far_end(blob, direction, head_length)
         else:
-            xy = far_end(blob, direction, lengths[k])
+            elbow, hand = joints[RIGHT_ELBOW + k - 1], joints[RIGHT_HAND + k - 1]
+            xy = far_end(blob, direction, hand_slab(blob, elbow, hand, shoulder_px, config))
         points.append(SkinPoint(xy, merged[k], index))
     return points
 
