@@ -138,3 +138,25 @@ def test_outline_edges_just_outside_the_blob_count_once_dilated() -> None:
     assert find_skin_blobs(skin, edge, CONFIG) == []
     (blob,) = find_skin_blobs(skin, cv2.dilate(edge, np.ones((3, 3), np.uint8)), CONFIG)
     assert 0.1 < blob.gradient < 0.2  # the outer ring of the disc: about 2 * pi * 15 / (pi * 15^2)
+
+
+def test_head_point_hardly_moves_with_the_hairline() -> None:
+    # Head centred at (320, 100), 56 x 72 px, on a neck. With the hair taken for skin the blob is
+    # the whole head; without it the blob starts 20 px lower, at the hairline. The top of the
+    # blob moves 20 px; the head point, the centre of the widest disc, much less.
+    def neck(s):
+        return cv2.rectangle(s, (305, 130), (335, 165), 255, -1)
+
+    def bald(s):
+        return cv2.ellipse(s, (320, 100), (28, 36), 0, 0, 360, 255, -1)
+
+    def hair(s):
+        bald(s)
+        s[:80] = 0
+
+    prediction = joints((320, 100), (150, 400), (500, 400))
+    points = [locate_points(blobs_of(head, neck), prediction, CONFIG)[0].xy for head in (bald, hair)]
+    assert np.hypot(points[0][0] - 320, points[0][1] - 100) < 2  # 100.8
+    assert np.hypot(points[1][0] - 320, points[1][1] - 100) < 9  # 108.1
+    # The centroid of the top half shoulder width moved 12 px (92.0 -> 103.9).
+    assert points[1][1] - points[0][1] < 8

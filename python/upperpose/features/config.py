@@ -119,8 +119,9 @@ class FeatureConfig:
     predicted forearm's 2D length of the predicted elbow (a bare forearm in the blob)."""
 
     head_length: float = 0.5
-    """Head point: centroid of the top `head_length` shoulder widths of the head blob along
-    the neck-to-head direction (drops a bare neck)."""
+    """Head point: the centre of the largest disc inside the head blob's convex hull is searched
+    in the top `head_length` shoulder widths of the blob along the neck-to-head direction (keeps
+    a bare neck or chest out)."""
 
     min_shoulder_px: float = 20.0
     """Smallest shoulder width in pixels used for the scale of gates (a turned torso
