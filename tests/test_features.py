@@ -217,3 +217,11 @@ def test_reused_buffers_give_same_features(background, two_frames) -> None:
         np.testing.assert_array_equal(image, b.images()[name], err_msg=name)
     np.testing.assert_array_equal(a.sil_bits, b.sil_bits)
     assert a.points == b.points
+
+
+def test_blob_gradient_counts_the_dilated_edges(background, two_frames) -> None:
+    first, second = two_frames
+    features = compute_features(second.frame, background, first.frame)
+    assert features.blobs
+    for blob in features.blobs:
+        assert blob.gradient == pytest.approx(np.mean(features.edge_dilated[blob.ys, blob.xs] > 0))

@@ -64,3 +64,15 @@ def test_a_face_is_seen_in_a_person_not_in_an_empty_room() -> None:
     frame, person, _ = render_frame(plan, 39)
     assert person.any()
     assert shows_a_face([frame], config)
+
+
+def test_dimmed_skin_is_still_skin() -> None:
+    # Skin (B, G, R) = (100, 130, 180) in the plate's light, R - G = 50; the lamp dims to 35 %:
+    # (35, 46, 63), R - G = 17, below the rule's 20. Scaled back to the plate's light it is skin.
+    plate = textured_background(H, W, seed=3)
+    frame = lit(plate, (0.35, 0.35, 0.35))
+    frame[30:80, 60:100] = (35, 46, 63)
+    on = FeatureExtractor(Background.from_plate(plate))(frame)
+    off = FeatureExtractor(Background.from_plate(plate, FeatureConfig(exposure_tolerance=10.0)))(frame)
+    assert on.skin0[30:80, 60:100].all()
+    assert not off.skin0[30:80, 60:100].any()

@@ -99,3 +99,64 @@ def test_startup_assigns_by_side_of_head() -> None:
     head, right, left = locate_points(one_hand, None, CONFIG)
     assert right is None and left is not None
     assert locate_points([], None, CONFIG) == [None, None, None]
+
+
+def test_foreshortened_forearm_shortens_the_hand_slab() -> None:
+    # Forearm pointing at the camera: elbow (200, 290) projects 37 px from the palm (212, 325),
+    # a third of an upright forearm (0.94 x 100 px shoulders); the bare forearm and the hand
+    # form one short blob. A full slab (50 px) would take the whole blob, forearm included.
+    def forearm(s):
+        return cv2.line(s, (200, 284), (210, 318), 255, 24)
+
+    def hand(s):
+        return cv2.circle(s, (212, 328), 15, 255, -1)
+
+    blobs = blobs_of(face, forearm, hand)
+    prediction = joints((320, 100), (212, 325), (500, 300), right_elbow=(200, 290))
+    _, right, _ = locate_points(blobs, prediction, CONFIG)
+    full = locate_points(blobs, prediction, CONFIG.replace(hand_min_foreshortening=1.0))[1]
+    assert np.hypot(right.xy[0] - 212, right.xy[1] - 328) < 5
+    assert np.hypot(full.xy[0] - 212, full.xy[1] - 328) > 9
+
+
+def test_hand_alone_keeps_the_full_slab() -> None:
+    # Long sleeves: the blob is the hand alone, away from the elbow; foreshortening changes nothing.
+    blobs = blobs_of(face, lambda s: cv2.ellipse(s, (212, 330), (12, 20), 0, 0, 360, 255, -1))
+    prediction = joints((320, 100), (212, 330), (500, 300), right_elbow=(205, 300))
+    _, right, _ = locate_points(blobs, prediction, CONFIG)
+    assert np.hypot(right.xy[0] - 212, right.xy[1] - 330) < 1.5
+
+
+def test_outline_edges_just_outside_the_blob_count_once_dilated() -> None:
+    # A hand whose skin mask stops a pixel short of its outline's edge band (shading, colour
+    # blending): I_edge as it is misses the blob; dilated 3x3, as the extractor passes it, the
+    # band's inner ring counts.
+    skin = np.zeros((480, 640), np.uint8)
+    cv2.circle(skin, (300, 300), 15, 255, -1)
+    edge = np.zeros_like(skin)
+    cv2.circle(edge, (300, 300), 17, 255, 2)  # radii 16..18
+    assert find_skin_blobs(skin, edge, CONFIG) == []
+    (blob,) = find_skin_blobs(skin, cv2.dilate(edge, np.ones((3, 3), np.uint8)), CONFIG)
+    assert 0.1 < blob.gradient < 0.2  # the outer ring of the disc: about 2 * pi * 15 / (pi * 15^2)
+
+
+def test_head_point_hardly_moves_with_the_hairline() -> None:
+    # Head centred at (320, 100), 56 x 72 px, on a neck. With the hair taken for skin the blob is
+    # the whole head; without it the blob starts 20 px lower, at the hairline. The top of the
+    # blob moves 20 px; the head point, the centre of the widest disc, much less.
+    def neck(s):
+        return cv2.rectangle(s, (305, 130), (335, 165), 255, -1)
+
+    def bald(s):
+        return cv2.ellipse(s, (320, 100), (28, 36), 0, 0, 360, 255, -1)
+
+    def hair(s):
+        bald(s)
+        s[:80] = 0
+
+    prediction = joints((320, 100), (150, 400), (500, 400))
+    points = [locate_points(blobs_of(head, neck), prediction, CONFIG)[0].xy for head in (bald, hair)]
+    assert np.hypot(points[0][0] - 320, points[0][1] - 100) < 2  # 100.8
+    assert np.hypot(points[1][0] - 320, points[1][1] - 100) < 9  # 108.1
+    # The centroid of the top half shoulder width moved 12 px (92.0 -> 103.9).
+    assert points[1][1] - points[0][1] < 8

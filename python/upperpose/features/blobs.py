@@ -49,7 +49,8 @@ def find_skin_blobs(skin: Mask, edge: Mask, config: FeatureConfig) -> list[SkinB
 
     Args:
         skin: `(H, W)` uint8 I_skin, nonzero = skin.
-        edge: `(H, W)` uint8 I_edge, nonzero = edge.
+        edge: `(H, W)` uint8 I_edge, nonzero = edge (the extractor passes it dilated 3x3, so
+            that the blob's outline edges, just outside its skin pixels, count).
         config: thresholds.
 
     Returns:

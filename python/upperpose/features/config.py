@@ -90,9 +90,11 @@ class FeatureConfig:
     blob_min_area: int = 60
     """Skin blobs: smallest area in pixels."""
 
-    blob_min_gradient: float = 0.03
+    blob_min_gradient: float = 0.06
     """Skin blobs: smallest blob gradient probability P_SB = sum(I_edge) / N (Eq. 3.4.4.2-1,
-    I_edge as 0/1); a static skin-coloured object that slipped through has P_SB near 0."""
+    I_edge as 0/1, dilated 3x3 so that the blob's outline edges count); a static skin-coloured
+    object that slipped through has P_SB near 0. Twice the 0.03 used on the undilated I_edge:
+    the dilation about doubles the width of an outline's edge band."""
 
     hand_gate: float = 0.9
     """Hand and head matching: largest distance from the predicted joint to the nearest
@@ -103,9 +105,23 @@ class FeatureConfig:
     the blob along the forearm (the hand, with fingers), so that a blob that also covers
     the forearm (short sleeves) still gives the hand."""
 
+    forearm_length: float = 0.94
+    """Hand point: the 2D elbow-to-hand length of a forearm parallel to the image, in shoulder
+    widths (the body model's default 0.34 m / 0.36 m). A shorter predicted forearm is
+    foreshortened and so is the hand: its slab (`hand_length`) shrinks in proportion."""
+
+    hand_min_foreshortening: float = 0.5
+    """Hand point: the slab shrinks to at most this fraction of `hand_length` (a hand seen
+    end-on still spans its width, about half its length)."""
+
+    forearm_reach: float = 0.25
+    """Hand point: the slab is shortened only when the blob comes within this fraction of the
+    predicted forearm's 2D length of the predicted elbow (a bare forearm in the blob)."""
+
     head_length: float = 0.5
-    """Head point: centroid of the top `head_length` shoulder widths of the head blob along
-    the neck-to-head direction (drops a bare neck)."""
+    """Head point: the centre of the largest disc inside the head blob's convex hull is searched
+    in the top `head_length` shoulder widths of the blob along the neck-to-head direction (keeps
+    a bare neck or chest out)."""
 
     min_shoulder_px: float = 20.0
     """Smallest shoulder width in pixels used for the scale of gates (a turned torso
@@ -179,6 +195,9 @@ class FeatureConfig:
         for name in (
             "hand_gate",
             "hand_length",
+            "forearm_length",
+            "hand_min_foreshortening",
+            "forearm_reach",
             "head_length",
             "min_shoulder_px",
             "startup_shoulder_faces",

@@ -67,6 +67,7 @@ class _Work:
         )
         self.grey_raw = np.empty(shape, np.uint8)
         self.plate = np.empty(shape3, np.uint8)
+        self.relit = np.empty(shape3, np.uint8)
         self.plate_dx = np.empty(shape, np.int16)
         self.plate_dy = np.empty(shape, np.int16)
         self.greys = [np.empty(shape, np.uint8), np.empty(shape, np.uint8)]
@@ -139,17 +140,24 @@ class FeatureExtractor:
             cv2.cvtColor(frame, cv2.COLOR_BGR2GRAY, dst=grey)
         return grey
 
-    def _plate_for(self, frame: Frame) -> tuple[Frame, Int16Image, Int16Image]:
-        """The plate and its derivatives, scaled to the frame's light when it changed."""
+    def _plate_for(self, frame: Frame) -> tuple[Frame, Int16Image, Int16Image, Frame]:
+        """Plate, its derivatives and frame, brought to the same light when the light changed.
+
+        The plate and its derivatives are scaled to the frame's light (I_sub, I_edge); the frame
+        is scaled to the plate's light for the skin colour rule.
+        """
         bg, work = self.background, self._work
         gains = channel_gains(frame, bg.plate, self.config.exposure_step)
         if not needs_compensation(gains, self.config.exposure_tolerance):
-            return bg.plate, bg.dx, bg.dy
+            return bg.plate, bg.dx, bg.dy, frame
         cv2.multiply(bg.plate, (*(float(g) for g in gains), 1.0), dst=work.plate, dtype=cv2.CV_8U)
+        # The skin rule's bounds are absolute (R - G, Cr, Cb shrink with the light): a dimmed
+        # hand falls out of them while the plate-lit colours stay inside.
+        cv2.multiply(frame, (*(1.0 / max(float(g), 0.05) for g in gains), 1.0), dst=work.relit, dtype=cv2.CV_8U)
         grey_gain = float(gains @ GREY_WEIGHTS)
         cv2.multiply(bg.dx, grey_gain, dst=work.plate_dx, dtype=cv2.CV_16S)
         cv2.multiply(bg.dy, grey_gain, dst=work.plate_dy, dtype=cv2.CV_16S)
-        return work.plate, work.plate_dx, work.plate_dy
+        return work.plate, work.plate_dx, work.plate_dy, work.relit
 
     def prime(self, previous: Frame) -> None:
         """Sets the previous frame for I_motion without computing its features.
@@ -197,7 +205,7 @@ class FeatureExtractor:
 
         grey = self._grey(frame)
         clock.lap("grey")
-        plate, plate_dx, plate_dy = self._plate_for(frame)
+        plate, plate_dx, plate_dy, relit = self._plate_for(frame)
         clock.lap("exposure")
         # I_sub: per-channel change against the plate, opened (noise) then closed (holes).
         colour_change(frame, plate, cfg.sub_threshold, work.change, out=work.tmp)
@@ -221,8 +229,9 @@ class FeatureExtractor:
             motion.fill(0)
         self._has_previous = True
         clock.lap("motion")
-        # I_skin = I_skin0 & (~background skin | I_motion | I_sub), opened.
-        skin0 = skin_mask(frame, cfg, work.skin, out["skin0"])
+        # I_skin = I_skin0 & (~background skin | I_motion | I_sub), opened; I_skin0 on the frame
+        # in the plate's light.
+        skin0 = skin_mask(relit, cfg, work.skin, out["skin0"])
         cv2.bitwise_or(self._not_background_skin, motion, dst=work.allowed)
         cv2.bitwise_or(work.allowed, sub, dst=work.allowed)
         cv2.bitwise_and(skin0, work.allowed, dst=work.tmp)
@@ -239,7 +248,9 @@ class FeatureExtractor:
         edge_dilated = _dilate(edge, self._dilate, out["edge_dilated"])
         motion_dilated = _dilate(motion, self._dilate, out["motion_dilated"])
         clock.lap("dilate")
-        blobs = find_skin_blobs(skin, edge, cfg)
+        # P_SB counts edges within a pixel of the blob: its outline edges lie in a band that the
+        # skin mask, shrunk by colour blending and its opening, often stops just short of.
+        blobs = find_skin_blobs(skin, edge_dilated, cfg)
         clock.lap("blobs")
         head, right_hand, left_hand = locate_points(blobs, joints, cfg)
         clock.lap("points")

@@ -5,8 +5,9 @@ left hand is matched to a distinct blob within a gate around its predicted posit
 whose only blob within the gate is taken by another part shares it: both are reported merged
 and carry no measured point. A hand's point is the centroid of the far end of its blob along
 the forearm (predicted elbow to predicted hand), one hand length long, so that a blob that
-covers a bare forearm still gives the hand. The head's point is the centroid of the top of its
-blob along the neck-to-head direction, one head length long (drops a bare neck).
+covers a bare forearm still gives the hand. The head's point is the centre of the largest disc
+inside its blob's convex hull, searched in the top head length along the neck-to-head direction
+(the head at its widest, with or without the hair; drops a bare neck and chest).
 
 Without a prediction (start-up) the three largest blobs are taken: the topmost is the head,
 the others hands by their side of it (image left = the subject's right hand).
@@ -18,6 +19,7 @@ import itertools
 import math
 from dataclasses import dataclass
 
+import cv2
 import numpy as np
 import numpy.typing as npt
 
@@ -57,6 +59,26 @@ def far_end(blob: SkinBlob, direction: npt.NDArray[np.float64], length: float) -
     t = blob.xs * direction[0] + blob.ys * direction[1]
     keep = t >= t.max() - length
     return float(blob.xs[keep].mean()), float(blob.ys[keep].mean())
+
+
+def head_centre(blob: SkinBlob, direction: npt.NDArray[np.float64], length: float) -> tuple[float, float]:
+    """Centre of the largest disc inside the blob's convex hull, within its top `length` pixels.
+
+    The head at its widest, whether the hair passed the skin rule (the blob is the whole head) or
+    not (the face alone): the centroid of the top of the blob moved with the hairline. The hull
+    fills a face partly lost to shade; the search stays in the top of the blob along `direction`
+    so that a wider bare chest or shoulders cannot win. Pixels within a pixel of the largest
+    radius are averaged: an oval face has a ridge of nearly equal radii along its long axis.
+    """
+    x, y, w, h = blob.bbox
+    region = np.zeros((h + 2, w + 2), np.uint8)  # a 1 px border: the outline is inside
+    cv2.fillConvexPoly(region, cv2.convexHull(blob.contour) - (x - 1, y - 1), 255)
+    radius = cv2.distanceTransform(region, cv2.DIST_L2, 5)
+    ys, xs = np.nonzero(region)
+    t = (xs + x - 1) * direction[0] + (ys + y - 1) * direction[1]
+    r = np.where(t >= t.max() - length, radius[ys, xs], 0.0)
+    keep = r >= r.max() - 1.0
+    return float(xs[keep].mean() + x - 1), float(ys[keep].mean() + y - 1)
 
 
 def principal_direction(blob: SkinBlob) -> npt.NDArray[np.float64] | None:
@@ -112,6 +134,29 @@ def assign(
     return matched, merged
 
 
+def hand_slab(
+    blob: SkinBlob,
+    elbow: npt.NDArray[np.float64],
+    hand: npt.NDArray[np.float64],
+    shoulder_px: float,
+    config: FeatureConfig,
+) -> float:
+    """Length in pixels of the hand's far-end slab of `blob` along the predicted forearm.
+
+    `hand_length` shoulder widths, shortened as the predicted forearm is foreshortened (an arm
+    pointing at the camera): the hand then projects shorter too, and a full-length slab would
+    reach back over the bare forearm. Only when the blob reaches the predicted elbow (a bare
+    forearm): a blob that is the hand alone (long sleeves) is all hand, whatever the forearm's
+    angle, and the wrist may bend the hand back into the image plane.
+    """
+    full = config.hand_length * shoulder_px
+    forearm = float(np.hypot(*(hand - elbow)))
+    if not np.isfinite(forearm) or blob.distance_to(elbow) > config.forearm_reach * forearm:
+        return full
+    shortening = forearm / (config.forearm_length * shoulder_px)
+    return full * min(1.0, max(config.hand_min_foreshortening, shortening))
+
+
 def points_with_prediction(
     blobs: list[SkinBlob], joints: npt.NDArray[np.float64], config: FeatureConfig
 ) -> list[SkinPoint | None]:
@@ -130,11 +175,7 @@ def points_with_prediction(
         unit(joints[RIGHT_HAND] - joints[RIGHT_ELBOW]),
         unit(joints[LEFT_HAND] - joints[LEFT_ELBOW]),
     ]
-    lengths = [
-        config.head_length * shoulder_px,
-        config.hand_length * shoulder_px,
-        config.hand_length * shoulder_px,
-    ]
+    head_length = config.head_length * shoulder_px
     points: list[SkinPoint | None] = []
     for k in range(3):
         index = matched[k]
@@ -145,8 +186,11 @@ def points_with_prediction(
         direction = directions[k]
         if merged[k] or direction is None:
             xy = blob.centroid
+        elif k == 0:
+            xy = head_centre(blob, direction, head_length)
         else:
-            xy = far_end(blob, direction, lengths[k])
+            elbow, hand = joints[RIGHT_ELBOW + k - 1], joints[RIGHT_HAND + k - 1]
+            xy = far_end(blob, direction, hand_slab(blob, elbow, hand, shoulder_px, config))
         points.append(SkinPoint(xy, merged[k], index))
     return points
 
@@ -159,7 +203,7 @@ def points_at_startup(blobs: list[SkinBlob], config: FeatureConfig) -> list[Skin
     head = min(largest, key=lambda i: blobs[i].centroid[1])
     head_blob = blobs[head]
     shoulder_px = max(config.startup_shoulder_faces * head_blob.bbox[2], config.min_shoulder_px)
-    head_xy = far_end(head_blob, np.array([0.0, -1.0]), config.head_length * shoulder_px)
+    head_xy = head_centre(head_blob, np.array([0.0, -1.0]), config.head_length * shoulder_px)
     points: list[SkinPoint | None] = [SkinPoint(head_xy, False, head), None, None]
     hands = sorted((i for i in largest if i != head), key=lambda i: blobs[i].centroid[0])
     if len(hands) == 1:
