@@ -1,6 +1,6 @@
 """Runs the tracker on the development set and prints the per-clip table (docs/RESULTS.md).
 
-    python tools/devset_table.py [--no-plate] [--clips 01,03] [--seed N] [--jobs 2] [--set K=V ...]
+    python -m upperpose.tracker.devset [--no-plate] [--clips 01,03] [--seed N] [--jobs 2] [--set K=V ...]
 
 For each clip: `upperpose track CLIP/video.mp4 [--background CLIP/background.png] --focal F -o
 OUT.json` (F from meta.json), then `upperpose eval OUT.json CLIP/gt.json --json`. `--set`
@@ -96,7 +96,7 @@ def table(results: list[dict]) -> str:
 
 def main() -> None:
     """Command line."""
-    p = argparse.ArgumentParser()
+    p = argparse.ArgumentParser(description="Tracks every dev-set clip and prints Table 4.2-1 per clip.")
     p.add_argument("--devset", default="dev-set")
     p.add_argument("--out", default="/tmp/devset-runs")
     p.add_argument("--no-plate", action="store_true")
@@ -106,6 +106,8 @@ def main() -> None:
     p.add_argument("--set", nargs="*", default=[], help="TrackerConfig overrides K=V (V as JSON)")
     p.add_argument("--summary", action="store_true", help="one line per clip instead of the table")
     a = p.parse_args()
+    if not Path(a.devset).is_dir():
+        p.error(f"no development set at {a.devset} (make it with: upperpose synth {a.devset} --devset)")
     overrides = {k: json.loads(v) for k, v in (s.split("=", 1) for s in a.set)}
     out = Path(a.out)
     out.mkdir(parents=True, exist_ok=True)
@@ -122,7 +124,7 @@ def main() -> None:
             limbs = max(max(e[j]) for j in JOINTS[3:])
             xs.append(s["mean_abs_x_px"])
             ys.append(s["mean_abs_y_px"])
-            tr.append(r["tracked"])  # noqa: E702
+            tr.append(r["tracked"])
             print(
                 f"{r['clip'][:2]} x {s['mean_abs_x_px']:5.1f} y {s['mean_abs_y_px']:5.1f} limbs {limbs:5.1f} "
                 f"tracked {r['tracked']:5.1f} start {r['start']} {'PASS' if accept(r) else 'fail'}"
