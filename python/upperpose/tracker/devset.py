@@ -13,6 +13,7 @@ import argparse
 import json
 import subprocess
 import sys
+import tempfile
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
@@ -98,7 +99,7 @@ def main() -> None:
     """Command line."""
     p = argparse.ArgumentParser(description="Tracks every dev-set clip and prints Table 4.2-1 per clip.")
     p.add_argument("--devset", default="dev-set")
-    p.add_argument("--out", default="/tmp/devset-runs")
+    p.add_argument("--out", default=str(Path(tempfile.gettempdir()) / "upperpose-devset-runs"))
     p.add_argument("--no-plate", action="store_true")
     p.add_argument("--clips", default="")
     p.add_argument("--seed", type=int, default=0)
