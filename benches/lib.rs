@@ -2,8 +2,9 @@
 
 #![allow(clippy::panic, clippy::unwrap_used, clippy::expect_used)] // setup failures in a bench should stop it loudly
 
-use upperpose_core::image::SkinPoints;
+use upperpose_core::image::{FrameView, SkinPoints};
 use upperpose_core::nalgebra::Vector3;
+use upperpose_core::search::{FrameRequest, Mode};
 use upperpose_core::{
     skeleton_from_pose, BitMask, BodyModel, BodyRaster, Camera, Joint, Pose, Roi, Side, Skeleton,
 };
@@ -77,5 +78,33 @@ pub fn ideal_features(s: &Scene) -> Features {
                 point(Joint::LeftHand),
             ],
         },
+    }
+}
+
+impl Features {
+    /// The features as the search sees them.
+    pub fn view(&self) -> FrameView<'_> {
+        FrameView::new(640, 480, &self.sil, &self.edge, &self.motion, self.skin).unwrap()
+    }
+}
+
+/// One frame's fit request on the scene: a trajectory search of the parts flagged in `search`
+/// (torso, right arm, left arm) from the scene's pose with the right elbow off by a little,
+/// as between frames.
+pub fn fit_request<'a>(s: &Scene, frame: FrameView<'a>, search: [bool; 3]) -> FrameRequest<'a> {
+    let mut prediction = s.pose;
+    prediction.0[6] -= 0.08;
+    FrameRequest {
+        frame,
+        prediction,
+        root: s.root,
+        body: s.body,
+        camera: s.camera,
+        mode: Mode::Trajectory,
+        window_scale: 1.0,
+        angle_window_scales: [1.0; 13],
+        frame_interval: 1.0 / 30.0,
+        search,
+        frame_index: 1,
     }
 }

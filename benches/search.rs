@@ -6,29 +6,14 @@
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use std::hint::black_box;
-use upperpose_bench::{ideal_features, Scene};
-use upperpose_core::image::FrameView;
-use upperpose_core::search::{fit_frame, FrameRequest, Mode, SearchConfig};
+use upperpose_bench::{fit_request, ideal_features, Scene};
+use upperpose_core::search::{fit_frame, SearchConfig};
 
 fn bench(c: &mut Criterion) {
     let s = Scene::new();
     let f = ideal_features(&s);
-    let frame = FrameView::new(640, 480, &f.sil, &f.edge, &f.motion, f.skin).unwrap();
-    let mut prediction = s.pose;
-    prediction.0[6] -= 0.08; // right elbow off by a little, as between frames
-    let req = |search: [bool; 3]| FrameRequest {
-        frame,
-        prediction,
-        root: s.root,
-        body: s.body,
-        camera: s.camera,
-        mode: Mode::Trajectory,
-        window_scale: 1.0,
-        angle_window_scales: [1.0; 13],
-        frame_interval: 1.0 / 30.0,
-        search,
-        frame_index: 1,
-    };
+    let frame = f.view();
+    let req = |search: [bool; 3]| fit_request(&s, frame, search);
 
     // Evaluations per second: one stage searched on one thread, divided by its evaluations.
     let one_thread = SearchConfig {

@@ -9,9 +9,8 @@
 
 #![allow(clippy::panic, clippy::unwrap_used, clippy::expect_used)] // a profiling aid: fail loudly
 
-use upperpose_bench::{ideal_features, Scene};
-use upperpose_core::image::FrameView;
-use upperpose_core::search::{fit_frame, FrameRequest, Mode, SearchConfig};
+use upperpose_bench::{fit_request, ideal_features, Scene};
+use upperpose_core::search::{fit_frame, SearchConfig};
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
@@ -26,22 +25,7 @@ fn main() {
     };
     let s = Scene::new();
     let f = ideal_features(&s);
-    let frame = FrameView::new(640, 480, &f.sil, &f.edge, &f.motion, f.skin).unwrap();
-    let mut prediction = s.pose;
-    prediction.0[6] -= 0.08; // the same request as benches/search.rs
-    let req = FrameRequest {
-        frame,
-        prediction,
-        root: s.root,
-        body: s.body,
-        camera: s.camera,
-        mode: Mode::Trajectory,
-        window_scale: 1.0,
-        angle_window_scales: [1.0; 13],
-        frame_interval: 1.0 / 30.0,
-        search,
-        frame_index: 1,
-    };
+    let req = fit_request(&s, f.view(), search); // the same request as benches/search.rs
     let config = SearchConfig {
         threads: Some(threads),
         ..SearchConfig::default()

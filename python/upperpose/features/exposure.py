@@ -20,20 +20,47 @@ GREY_WEIGHTS = np.array([0.114, 0.587, 0.299])
 _MIN_LEVEL = 24
 
 
+class ExposureMeter:
+    """Measures frames' gains against one plate; the plate's side of the ratio is sampled once.
+
+    Args:
+        plate: the clean plate, `(H, W, 3)` BGR.
+        step: every `step`-th pixel in both directions is compared.
+    """
+
+    def __init__(self, plate: Frame, step: int) -> None:
+        self.step = step
+        samples = plate[::step, ::step].reshape(-1, 3).astype(np.float32)
+        # Per channel: the well-lit sample indices and their plate values (None: too few).
+        self._channels: list[tuple[npt.NDArray[np.intp], npt.NDArray[np.float32]] | None] = []
+        for c in range(3):
+            lit = np.flatnonzero(samples[:, c] >= _MIN_LEVEL)
+            self._channels.append((lit, samples[lit, c]) if len(lit) >= 100 else None)
+
+    def gains(self, frame: Frame) -> npt.NDArray[np.float64]:
+        """Median per-channel ratio frame / plate over the sampled pixels.
+
+        Returns:
+            `(3,)` BGR gains; 1.0 for a channel without enough well-lit plate pixels.
+        """
+        f = frame[:: self.step, :: self.step].reshape(-1, 3)
+        gains = np.ones(3)
+        for c, channel in enumerate(self._channels):
+            if channel is not None:
+                lit, plate_values = channel
+                gains[c] = float(np.median(f[lit, c] / plate_values))
+        return gains
+
+
 def channel_gains(frame: Frame, plate: Frame, step: int) -> npt.NDArray[np.float64]:
     """Median per-channel ratio frame / plate over every `step`-th pixel in both directions.
+
+    One call; `ExposureMeter` measures many frames against one plate.
 
     Returns:
         `(3,)` BGR gains; 1.0 for a channel without enough well-lit plate pixels.
     """
-    f = frame[::step, ::step].reshape(-1, 3).astype(np.float32)
-    p = plate[::step, ::step].reshape(-1, 3).astype(np.float32)
-    gains = np.ones(3)
-    for c in range(3):
-        lit = p[:, c] >= _MIN_LEVEL
-        if np.count_nonzero(lit) >= 100:
-            gains[c] = float(np.median(f[lit, c] / p[lit, c]))
-    return gains
+    return ExposureMeter(plate, step).gains(frame)
 
 
 def needs_compensation(gains: npt.NDArray[np.float64], tolerance: float) -> bool:
@@ -41,4 +68,4 @@ def needs_compensation(gains: npt.NDArray[np.float64], tolerance: float) -> bool
     return bool(np.any(np.abs(gains - 1.0) > tolerance))
 
 
-__all__ = ["GREY_WEIGHTS", "channel_gains", "needs_compensation"]
+__all__ = ["GREY_WEIGHTS", "ExposureMeter", "channel_gains", "needs_compensation"]

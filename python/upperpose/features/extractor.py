@@ -12,7 +12,7 @@ from upperpose.features.background import Background, Int16Image, colour_change,
 from upperpose.features.blobs import find_skin_blobs
 from upperpose.features.checks import Frame, Mask, check_frame, check_mask
 from upperpose.features.config import FeatureConfig
-from upperpose.features.exposure import GREY_WEIGHTS, channel_gains, needs_compensation
+from upperpose.features.exposure import GREY_WEIGHTS, ExposureMeter, needs_compensation
 from upperpose.features.frame import FrameFeatures
 from upperpose.features.packing import pack_rows
 from upperpose.features.parts import (
@@ -112,6 +112,7 @@ class FeatureExtractor:
         self.background = background.with_config(self.config)
         height, width = self.background.size
         self._not_background_skin = cv2.bitwise_not(self.background.skin)
+        self._exposure = ExposureMeter(self.background.plate, self.config.exposure_step)
         self._work = _Work(height, width)
         self._has_previous = False
         self._current = 0
@@ -147,7 +148,7 @@ class FeatureExtractor:
         is scaled to the plate's light for the skin colour rule.
         """
         bg, work = self.background, self._work
-        gains = channel_gains(frame, bg.plate, self.config.exposure_step)
+        gains = self._exposure.gains(frame)
         if not needs_compensation(gains, self.config.exposure_tolerance):
             return bg.plate, bg.dx, bg.dy, frame
         cv2.multiply(bg.plate, (*(float(g) for g in gains), 1.0), dst=work.plate, dtype=cv2.CV_8U)

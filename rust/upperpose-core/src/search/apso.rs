@@ -193,6 +193,7 @@ fn best_index(costs: &[f64]) -> usize {
 mod tests {
     use super::*;
     use crate::parallel::pool;
+    use crate::search::test_functions::{boxes, rastrigin, sphere};
 
     fn run(
         bounds: &[DofRange],
@@ -204,21 +205,6 @@ mod tests {
         let mut rng = Rng::for_stage(seed, 0, 0);
         let p = pool(threads).unwrap();
         minimise(bounds, config, &[], &mut rng, &p, || (), |_, x| f(x))
-    }
-
-    fn sphere(x: &[f64]) -> f64 {
-        x.iter().map(|v| (v - 0.3) * (v - 0.3)).sum()
-    }
-
-    fn rastrigin(x: &[f64]) -> f64 {
-        10.0 * x.len() as f64
-            + x.iter()
-                .map(|v| v * v - 10.0 * (2.0 * std::f64::consts::PI * v).cos())
-                .sum::<f64>()
-    }
-
-    fn boxes(d: usize, lo: f64, hi: f64) -> Vec<DofRange> {
-        (0..d).map(|_| DofRange::new(lo, hi).unwrap()).collect()
     }
 
     #[test]

@@ -58,16 +58,7 @@ where
 mod tests {
     use super::*;
     use crate::parallel::pool;
-
-    fn sphere(x: &[f64]) -> f64 {
-        x.iter().map(|v| (v - 0.3) * (v - 0.3)).sum()
-    }
-
-    fn boxes(d: usize) -> Vec<DofRange> {
-        (0..d)
-            .map(|_| DofRange::new(-5.12, 5.12).unwrap())
-            .collect()
-    }
+    use crate::search::test_functions::{boxes, sphere};
 
     fn run(seed: u64, threads: usize, sigma: f64) -> SwarmResult {
         let cfg = SwarmConfig {
@@ -79,7 +70,7 @@ mod tests {
         let p = pool(threads).unwrap();
         let centre = vec![-1.0; 5];
         minimise(
-            &boxes(5),
+            &boxes(5, -5.12, 5.12),
             &cfg,
             sigma,
             &centre,

@@ -9,6 +9,8 @@ pub mod cost;
 pub mod optimizer;
 pub mod rng;
 pub mod simplex;
+#[cfg(test)]
+mod test_functions;
 
 use crate::body::BodyModel;
 use crate::camera::Camera;

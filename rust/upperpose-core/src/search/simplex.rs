@@ -177,6 +177,7 @@ where
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::search::test_functions::{boxes, rastrigin, sphere};
     use proptest::prelude::*;
 
     fn run(bounds: &[DofRange], start: &[f64], budget: usize, f: fn(&[f64]) -> f64) -> SwarmResult {
@@ -185,21 +186,6 @@ mod tests {
             ..SimplexConfig::default()
         };
         minimise(bounds, start, &cfg, || (), |_, x| f(x))
-    }
-
-    fn sphere(x: &[f64]) -> f64 {
-        x.iter().map(|v| (v - 0.3) * (v - 0.3)).sum()
-    }
-
-    fn rastrigin(x: &[f64]) -> f64 {
-        10.0 * x.len() as f64
-            + x.iter()
-                .map(|v| v * v - 10.0 * (2.0 * std::f64::consts::PI * v).cos())
-                .sum::<f64>()
-    }
-
-    fn boxes(d: usize, lo: f64, hi: f64) -> Vec<DofRange> {
-        (0..d).map(|_| DofRange::new(lo, hi).unwrap()).collect()
     }
 
     #[test]
