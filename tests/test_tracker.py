@@ -176,6 +176,14 @@ def gt() -> dict:
     return truth(clip())
 
 
+def test_search_options_reach_the_search_config() -> None:
+    config = TrackerConfig(particles=12, search_options={"claim_other_arm": False, "weights": {"edge": 1.0}})
+    search = config.search_config()
+    assert (search.particles, search.claim_other_arm, search.weights["edge"]) == (12, False, 1.0)
+    with pytest.raises(TypeError, match="passes"):
+        TrackerConfig(search_options={"passes": 1}).search_config()
+
+
 def test_states_from_empty_room_to_tracked_and_back(gt: dict) -> None:
     fitter = TruthFitter(gt)
     statuses = run_clip(fitter, extra_empty=12)

@@ -102,6 +102,8 @@ class TrackerConfig:
         root_window: half-width in metres of the torso stage's search over the root's X and Y
             around the estimate of `RootEstimator` (also used after start-up and losses).
         search: a ready `upperpose.SearchConfig`; overrides the fields above.
+        search_options: further keyword arguments of `upperpose.SearchConfig` (for example
+            `{"weights": {"edge": 1.0}, "arm_passes": 1}`), when `search` is None.
         features: feature thresholds; the background's when None.
         skip_static: search only the parts whose motion flag is set (§3.4.3); False searches
             every part every frame.
@@ -161,6 +163,7 @@ class TrackerConfig:
     startup_frontal: bool = False
     velocity_window_gain: float = 0.5
     fair_recovery: bool = True
+    search_options: dict[str, Any] = field(default_factory=dict)
 
     def search_config(self) -> Any:
         """The `upperpose.SearchConfig` to use (None when the extension has none)."""
@@ -183,7 +186,7 @@ class TrackerConfig:
             optimizer=self.optimizer,
             root_window=self.root_window,
             initial_root_window=self.root_window,
-            **kwargs,
+            **{**kwargs, **self.search_options},
         )
 
 

@@ -49,6 +49,9 @@ fn terms_values(t: &CostTerms) -> [f64; 6] {
 ///     behind_weight: weight of the prior against a hand behind the body (per arm length
 ///         behind the shoulder beyond `behind_margin`); 0 turns it off.
 ///     behind_margin: arm lengths a hand may lie behind the shoulder for free.
+///     claim_other_arm: an arm's Edge and Motion terms ignore pixels under the other arm.
+///     sil_by_part_area: divide the Sil and Arm mismatch by the part's nominal area instead of
+///         its region's area.
 #[pyclass(frozen, name = "SearchConfig", module = "upperpose._upperpose")]
 #[derive(Clone)]
 pub struct PySearchConfig {
@@ -62,7 +65,8 @@ impl PySearchConfig {
     #[pyo3(signature = (*, particles = None, iterations = None, c0 = None, annealing = None, max_speed = None,
                         weights = None, limits = "anatomical", non_penetration = true, threads = None, seed = 0,
                         root_window = None, initial_root_window = None, row_steps = None, optimizer = "apso",
-                        sigma = None, behind_weight = None, behind_margin = None))]
+                        sigma = None, behind_weight = None, behind_margin = None,
+                        claim_other_arm = true, sil_by_part_area = true))]
     #[allow(clippy::too_many_arguments)] // one keyword argument per setting
     fn new(
         particles: Option<usize>,
@@ -82,6 +86,8 @@ impl PySearchConfig {
         sigma: Option<f64>,
         behind_weight: Option<f64>,
         behind_margin: Option<f64>,
+        claim_other_arm: bool,
+        sil_by_part_area: bool,
     ) -> PyResult<Self> {
         let mut c = SearchConfig::default();
         let d = SwarmConfig::default();
@@ -143,6 +149,8 @@ impl PySearchConfig {
             }
         };
         c.non_penetration = non_penetration;
+        c.claim_other_arm = claim_other_arm;
+        c.sil_by_part_area = sil_by_part_area;
         if threads == Some(0) {
             return Err(PyValueError::new_err("threads must be >= 1, got 0"));
         }
@@ -243,6 +251,14 @@ impl PySearchConfig {
     #[getter]
     fn behind_margin(&self) -> f64 {
         self.inner.behind_margin
+    }
+    #[getter]
+    fn claim_other_arm(&self) -> bool {
+        self.inner.claim_other_arm
+    }
+    #[getter]
+    fn sil_by_part_area(&self) -> bool {
+        self.inner.sil_by_part_area
     }
     /// Every n-th image row is scored, per stage (torso, right arm, left arm); 1 is exact.
     #[getter]

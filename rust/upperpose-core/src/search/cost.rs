@@ -33,7 +33,7 @@ impl Default for CostWeights {
     /// counting it twice made fits worse (3.51 against 3.38 px) and slower.
     fn default() -> Self {
         CostWeights {
-            sil: 20.0,
+            sil: 12.0,
             edge: 2.0,
             motion: 0.5,
             skin: 1.5,
@@ -207,12 +207,14 @@ pub struct StageRegion {
     row_step: i32,
     counts: CountTable,
     arm: Option<ArmPlanes>,
-    area: f64,
     sil_area: f64,
     /// `|(sil ^ base) & R|`.
     xor0: f64,
     /// `|base & R|`.
     base_area: f64,
+    /// What the Sil and Arm terms' mismatch is divided by: the region's area, or the part's
+    /// own nominal area (see [`StageRegion::normalised_by`]).
+    sil_norm: f64,
 }
 
 /// A full-frame mask of the region `roi`.
@@ -235,6 +237,8 @@ impl StageRegion {
     /// stages whose Arm term is weighed) a full-frame mask of the fitted torso, neck and head.
     /// Candidates are counted on rows that are multiples of `row_step` (see [`evaluate`]) and
     /// only inside `reach`, the part of `roi` they can cover: the running counts are built there.
+    /// Edge and motion pixels under `claimed` (the other arm) do not count for the candidate:
+    /// an arm laid over the other arm would otherwise collect that arm's contour for free.
     pub fn new(
         frame: &FrameView,
         roi: Roi,
@@ -242,22 +246,25 @@ impl StageRegion {
         row_step: i32,
         base: &BitMask,
         torso: Option<&BitMask>,
+        claimed: Option<&BitMask>,
     ) -> Self {
         let r = region_mask(frame.width, frame.height, roi);
         let stride = r.stride;
         let sil = frame.sil.words;
         let zip = |f: &dyn Fn(usize) -> u64| -> Vec<u64> { (0..r.words.len()).map(f).collect() };
+        let unclaimed = |plane: &[u64]| -> Vec<u64> {
+            match claimed {
+                Some(c) => zip(&|i| plane[i] & !c.words[i]),
+                None => plane.to_vec(),
+            }
+        };
+        let (edge, motion) = (unclaimed(frame.edge.words), unclaimed(frame.motion.words));
         let free = zip(&|i| r.words[i] & !base.words[i]);
         let sil_free = zip(&|i| free[i] & sil[i]);
         let xor = zip(&|i| r.words[i] & (sil[i] ^ base.words[i]));
         let base_in = zip(&|i| r.words[i] & base.words[i]);
         let sil_in = zip(&|i| r.words[i] & sil[i]);
-        let counts = CountTable::new(
-            reach,
-            row_step,
-            stride,
-            [&free, &sil_free, frame.edge.words, frame.motion.words],
-        );
+        let counts = CountTable::new(reach, row_step, stride, [&free, &sil_free, &edge, &motion]);
         let arm = torso.map(|t| {
             let outside = zip(&|i| r.words[i] & !t.words[i]);
             let feature = zip(&|i| outside[i] & sil[i]);
@@ -277,12 +284,21 @@ impl StageRegion {
             roi,
             row_step: row_step.max(1),
             counts,
-            area: f64::from(roi.width) * f64::from(roi.height),
             sil_area: count(&sil_in),
             xor0: count(&xor),
             base_area: count(&base_in),
+            sil_norm: f64::from(roi.width) * f64::from(roi.height),
             arm,
         }
+    }
+
+    /// Divides the Sil and Arm mismatch by `area` pixels instead of the region's area. With
+    /// the part's own size there, a limb's misplaced silhouette weighs the same against its
+    /// contour terms whatever the size of the region around it (a diagonal arm's box, the
+    /// full-range search's disc).
+    pub fn normalised_by(mut self, area: f64) -> Self {
+        self.sil_norm = area.max(1.0);
+        self
     }
 }
 
@@ -424,13 +440,75 @@ pub fn evaluate(
     let model_area = region.base_area + free;
     let skin_sum: f64 = skin.iter().map(|p| (p.model - p.image).norm()).sum();
     CostTerms {
-        sil: (region.xor0 + free - 2.0 * sil_free) / region.area,
+        sil: (region.xor0 + free - 2.0 * sil_free) / region.sil_norm,
         edge: f64::from(edge) / contour,
         motion: f64::from(motion) / contour,
         skin: skin_sum / shoulder_px.max(1.0),
         arm: region.arm.as_ref().map_or(0.0, |a| {
-            (a.feature_area + arm_out - 2.0 * arm_feat) / region.area
+            (a.feature_area + arm_out - 2.0 * arm_feat) / region.sil_norm
         }),
         ratio: (model_area / region.sil_area.max(1.0) - 1.0).abs(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)] // test code may fail loudly
+    use super::*;
+    use crate::image::SkinPoints;
+    use crate::outline::outline_of_solid;
+    use crate::solid::{solid_of_part, Part};
+    use crate::{skeleton_from_pose, BodyModel, Camera, Pose};
+    use nalgebra::Vector3;
+
+    /// One cone of the rest pose, its scanner and its full-frame mask.
+    fn upper_arm(full: &Roi) -> (Scanner, BitMask) {
+        let body = BodyModel::default();
+        let skel = skeleton_from_pose(&Pose::default(), &Vector3::new(0.0, 0.0, 2.0), &body);
+        let camera = Camera::perspective(300.0, 99.5, 99.5).unwrap();
+        let solid = solid_of_part(Part::RightUpperArm, &skel, &body);
+        let piece = Scanner::new(&outline_of_solid(&solid, &camera).unwrap());
+        let mut spans = RowSpans::default();
+        piece.spans_into(full, &mut spans);
+        let mut mask = BitMask::new(*full);
+        mask.fill(&spans);
+        (piece, mask)
+    }
+
+    #[test]
+    fn claimed_pixels_pay_no_edge_or_motion() {
+        let full = Roi::full(200, 200);
+        let (piece, mask) = upper_arm(&full);
+        assert!(mask.count() > 300);
+        let everywhere = vec![u64::MAX; mask.words.len()];
+        let no_skin = SkinPoints { points: [None; 3] };
+        let frame =
+            FrameView::new(200, 200, &mask.words, &everywhere, &everywhere, no_skin).unwrap();
+        let base = BitMask::new(full);
+        let score = |claimed: Option<&BitMask>| {
+            let region = StageRegion::new(&frame, full, full, 1, &base, None, claimed);
+            evaluate(&region, &[piece], &[], 60.0, &mut Scratch::default())
+        };
+        let open = score(None);
+        assert_eq!((open.edge, open.motion, open.sil), (1.0, 1.0, 0.0));
+        // The same cone claimed by the other arm: its contour collects nothing.
+        let claimed = score(Some(&mask));
+        assert_eq!((claimed.edge, claimed.motion, claimed.sil), (0.0, 0.0, 0.0));
+    }
+
+    #[test]
+    fn the_silhouette_mismatch_is_divided_by_the_region_or_the_given_area() {
+        let full = Roi::full(200, 200);
+        let (piece, mask) = upper_arm(&full);
+        let nothing = vec![0u64; mask.words.len()];
+        let no_skin = SkinPoints { points: [None; 3] };
+        let frame = FrameView::new(200, 200, &nothing, &nothing, &nothing, no_skin).unwrap();
+        let base = BitMask::new(full);
+        let region = StageRegion::new(&frame, full, full, 1, &base, None, None);
+        let score = |r: &StageRegion| evaluate(r, &[piece], &[], 60.0, &mut Scratch::default()).sil;
+        // The cone on an empty silhouette: every pixel of it is a mismatch.
+        let n = mask.count() as f64;
+        assert_eq!(score(&region), n / 40_000.0);
+        assert_eq!(score(&region.normalised_by(500.0)), n / 500.0);
     }
 }

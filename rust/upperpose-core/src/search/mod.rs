@@ -118,6 +118,12 @@ pub struct SearchConfig {
     /// Arm lengths a hand may lie behind the shoulder for free (an arm swinging while
     /// walking goes about 0.3 behind).
     pub behind_margin: f64,
+    /// An arm's Edge and Motion terms ignore pixels under the other arm (as fitted or
+    /// predicted): otherwise an arm laid over the other one collects its contour for free.
+    pub claim_other_arm: bool,
+    /// Divide the Sil (and Arm) mismatch by the stage's nominal part area rather than by its
+    /// region's area (docs/cost.md).
+    pub sil_by_part_area: bool,
 }
 
 impl Default for SearchConfig {
@@ -136,6 +142,8 @@ impl Default for SearchConfig {
             sigma: 1.0,
             behind_weight: 2.0,
             behind_margin: 0.2,
+            claim_other_arm: true,
+            sil_by_part_area: true,
         }
     }
 }
@@ -217,6 +225,21 @@ fn mask_of(
         }
     }
     m
+}
+
+/// The area of a stage's parts seen from the front, arms side-on, in square metres.
+fn nominal_area_m2(stage: Stage, b: &BodyModel) -> f64 {
+    match stage {
+        Stage::Torso => {
+            2.0 * b.torso_half_width * (b.torso_top + b.torso_bottom)
+                + 2.0 * b.neck_radius * b.neck_length
+                + std::f64::consts::PI * b.head_radii[0] * b.head_radii[1]
+        }
+        Stage::RightArm | Stage::LeftArm => {
+            b.upper_arm_length * (b.upper_arm_radii[0] + b.upper_arm_radii[1])
+                + b.lower_arm_length * (b.lower_arm_radii[0] + b.lower_arm_radii[1])
+        }
+    }
 }
 
 /// The stage's region: the parts' box at the current pose, grown by what the search can reach.
@@ -455,8 +478,35 @@ fn run_stage(
     } else {
         part_box(stage, req, &skel, roi).unwrap_or(roi)
     };
+    let other_arm = match stage {
+        Stage::Torso => None,
+        Stage::RightArm => Some(Stage::LeftArm),
+        Stage::LeftArm => Some(Stage::RightArm),
+    };
+    let claimed = other_arm.filter(|_| config.claim_other_arm).map(|other| {
+        mask_of(
+            other.parts(),
+            &skel,
+            b,
+            &req.camera,
+            req.frame.width,
+            req.frame.height,
+        )
+    });
     let step = config.row_steps[stage as usize];
-    let region = StageRegion::new(&req.frame, roi, reach, step, &base, torso.as_ref());
+    let mut region = StageRegion::new(
+        &req.frame,
+        roi,
+        reach,
+        step,
+        &base,
+        torso.as_ref(),
+        claimed.as_ref(),
+    );
+    if config.sil_by_part_area {
+        let ppm = pixels_per_metre(&req.camera, root);
+        region = region.normalised_by(nominal_area_m2(stage, b) * ppm * ppm);
+    }
 
     let mut bounds: Vec<DofRange> = stage
         .dofs()
