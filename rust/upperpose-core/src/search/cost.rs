@@ -78,9 +78,14 @@ impl CostTerms {
 /// ([`FrameView::new`] rejects wider images). Only the rows the stage samples are built.
 #[derive(Debug, Clone)]
 struct CountTable {
-    roi: Roi,
-    /// Where each row of the region starts in `cells` (unsampled rows: nowhere, never read).
-    row_start: Vec<usize>,
+    /// The region's first column.
+    x0: i32,
+    /// The first sampled row and the rows between sampled rows: table row `r` is image row
+    /// `y0 + r * step`.
+    y0: i32,
+    step: i32,
+    /// Cells per table row: the region's width + 1.
+    row_len: usize,
     cells: Vec<u64>,
 }
 
@@ -125,14 +130,13 @@ impl CountTable {
     /// of `step` are built.
     fn new(roi: Roi, step: i32, stride: usize, planes: [&[u64]; 4]) -> Self {
         let row_len = roi.width as usize + 1;
+        let step = step.max(1);
         let rows: Vec<i32> = (roi.y..roi.y + roi.height as i32)
-            .filter(|y| y % step.max(1) == 0)
+            .filter(|y| y % step == 0)
             .collect();
-        let mut row_start = vec![usize::MAX; roi.height as usize];
         let mut cells = vec![0u64; row_len * rows.len()];
         let (x0, x1) = (roi.x as usize, roi.x as usize + roi.width as usize);
-        for (r, (&y, out)) in rows.iter().zip(cells.chunks_exact_mut(row_len)).enumerate() {
-            row_start[(y - roi.y) as usize] = r * row_len;
+        for (&y, out) in rows.iter().zip(cells.chunks_exact_mut(row_len)) {
             let base = y as usize * stride;
             let mut acc = 0u64;
             let mut i = 1;
@@ -167,18 +171,43 @@ impl CountTable {
             }
         }
         CountTable {
-            roi,
-            row_start,
+            x0: roi.x,
+            y0: rows.first().copied().unwrap_or(roi.y),
+            step,
+            row_len,
             cells,
         }
     }
 
-    /// The packed counts of columns `x0..x1` (inside the region, `x0 <= x1`) of image row `y`,
-    /// a sampled row.
+    /// The table row of image row `y`, a sampled row of the region.
     #[inline]
-    fn run(&self, y: i32, x0: i32, x1: i32) -> u64 {
-        let row = self.row_start[(y - self.roi.y) as usize];
-        let at = |x: i32| self.cells[row + (x - self.roi.x) as usize];
+    fn index(&self, y: i32) -> usize {
+        ((y - self.y0) / self.step) as usize
+    }
+
+    /// Table row `r`, to count runs of it with [`RowCounts::run`].
+    #[inline]
+    fn row(&self, r: usize) -> RowCounts<'_> {
+        let start = r * self.row_len;
+        RowCounts {
+            x0: self.x0,
+            cells: &self.cells[start..start + self.row_len],
+        }
+    }
+}
+
+/// The running counts of one sampled row.
+#[derive(Clone, Copy)]
+struct RowCounts<'a> {
+    x0: i32,
+    cells: &'a [u64],
+}
+
+impl RowCounts<'_> {
+    /// The packed counts of columns `x0..x1` (inside the region, `x0 <= x1`).
+    #[inline]
+    fn run(&self, x0: i32, x1: i32) -> u64 {
+        let at = |x: i32| self.cells[(x - self.x0) as usize];
         at(x1) - at(x0)
     }
 }
@@ -321,9 +350,12 @@ pub fn evaluate(
     }
     let t = &region.counts;
 
-    // Area terms over the union of the pieces, row by row. Every piece's rows lie on the same
-    // grid of multiples of `step`, so row `y` is entry `(y - s.y0) / step` of piece `s`.
+    // One pass over the grid rows of the pieces' union. Every piece's rows lie on the same grid
+    // of multiples of `step` (the table's too), so grid row `k` (counted from `first`) is entry
+    // `k - skip[p]` of piece `p` and table row `r0 + k`; for `k < skip[p]` the subtraction
+    // wraps past every length.
     let (mut free, mut sil_free, mut arm_out, mut arm_feat) = (0u32, 0u32, 0u32, 0u32);
+    let (mut contour, mut edge, mut motion) = (0u32, 0u32, 0u32);
     let first = spans
         .iter()
         .filter(|s| !s.spans.is_empty())
@@ -332,8 +364,6 @@ pub fn evaluate(
         .unwrap_or(0);
     let end = spans.iter().map(|s| s.y(s.spans.len())).max().unwrap_or(0);
     let mut row: [Span; 4] = [Span::EMPTY; 4];
-    // Grid row `k` (counted from `first`) is entry `k - skip[p]` of piece `p`; for `k < skip[p]`
-    // the subtraction wraps past every length.
     let m = spans.len().min(row.len());
     let (mut skip, mut len) = ([0usize; 4], [0usize; 4]);
     for (p, s) in spans[..m].iter().enumerate() {
@@ -345,58 +375,34 @@ pub fn evaluate(
     } else {
         0
     };
+    let r0 = if rows > 0 { t.index(first) } else { 0 };
     for k in 0..rows {
-        let y = first + k as i32 * step;
+        let counts = t.row(r0 + k);
         let mut n = 0;
-        for p in 0..m {
+        for (p, s) in spans[..m].iter().enumerate() {
             let i = k.wrapping_sub(skip[p]);
             if i >= len[p] {
                 continue;
             }
-            let sp = spans[p].spans[i];
-            if !sp.is_empty() {
-                // Insertion by x0 keeps the (at most four) runs sorted.
-                let mut j = n;
-                while j > 0 && row[j - 1].x0 > sp.x0 {
-                    row[j] = row[j - 1];
-                    j -= 1;
-                }
-                row[j] = sp;
-                n += 1;
-            }
-        }
-        let runs = &row[..n];
-        let mut i = 0;
-        while i < runs.len() {
-            let mut run = runs[i];
-            while i + 1 < runs.len() && runs[i + 1].x0 <= run.x1 {
-                i += 1;
-                run.x1 = run.x1.max(runs[i].x1);
-            }
-            let c = t.run(y, run.x0, run.x1);
-            free += lane(c, FREE);
-            sil_free += lane(c, SIL_FREE);
-            if let Some(a) = &region.arm {
-                let c = a.counts.run(y, run.x0, run.x1);
-                arm_out += lane(c, OUTSIDE);
-                arm_feat += lane(c, ARM_SIL);
-            }
-            i += 1;
-        }
-    }
-
-    // Edge and motion under each piece's one-pixel contour.
-    let (mut contour, mut edge, mut motion) = (0u32, 0u32, 0u32);
-    for s in spans.iter() {
-        for (i, c) in s.spans.iter().enumerate() {
+            let c = s.spans[i];
             if c.is_empty() {
                 continue;
             }
+            // Insertion by x0 keeps the (at most four) runs sorted.
+            let mut j = n;
+            while j > 0 && row[j - 1].x0 > c.x0 {
+                row[j] = row[j - 1];
+                j -= 1;
+            }
+            row[j] = c;
+            n += 1;
+
+            // Edge and motion under the piece's one-pixel contour: its pixels with a
+            // 4-neighbour outside it (the sampled rows above and below stand for the rows).
             let up = if i > 0 { s.spans[i - 1] } else { Span::EMPTY };
             let down = s.spans.get(i + 1).copied().unwrap_or(Span::EMPTY);
             let in0 = (c.x0 + 1).max(up.x0).max(down.x0);
             let in1 = (c.x1 - 1).min(up.x1).min(down.x1);
-            let y = s.y(i);
             let runs = if up.is_empty() || down.is_empty() || in0 >= in1 {
                 [(c.x0, c.x1), (0, 0)]
             } else {
@@ -405,11 +411,31 @@ pub fn evaluate(
             for (a, b) in runs {
                 if a < b {
                     contour += (b - a) as u32;
-                    let v = t.run(y, a, b);
+                    let v = counts.run(a, b);
                     edge += lane(v, EDGE);
                     motion += lane(v, MOTION);
                 }
             }
+        }
+
+        // Area terms over the union of the row's runs.
+        let runs = &row[..n];
+        let mut i = 0;
+        while i < runs.len() {
+            let mut run = runs[i];
+            while i + 1 < runs.len() && runs[i + 1].x0 <= run.x1 {
+                i += 1;
+                run.x1 = run.x1.max(runs[i].x1);
+            }
+            let c = counts.run(run.x0, run.x1);
+            free += lane(c, FREE);
+            sil_free += lane(c, SIL_FREE);
+            if let Some(a) = &region.arm {
+                let c = a.counts.row(r0 + k).run(run.x0, run.x1);
+                arm_out += lane(c, OUTSIDE);
+                arm_feat += lane(c, ARM_SIL);
+            }
+            i += 1;
         }
     }
 
