@@ -244,22 +244,32 @@ fn floor_i32(v: f64) -> i32 {
 
 /// The pixels whose centres lie in `[lo, hi]`, clipped to the columns of `roi`.
 ///
-/// Rounded and clipped as floats, converted only once the run is known to be non-empty and
-/// inside the region: the crate builds for x86-64-v2 (`.cargo/config.toml`), whose SSE4.1
-/// rounds in one instruction, and the loop over rows then runs two rows per instruction.
+/// All in floats, so that the loop over rows runs two rows per instruction: rounded by SSE4.1
+/// (the crate builds for x86-64-v2, `.cargo/config.toml`), clipped into the region's columns
+/// (which also makes the +inf/-inf of a missed row finite), then converted by [`int_of`].
 #[inline]
 fn clipped_span(lo: f64, hi: f64, roi: &Roi) -> Span {
-    let x0 = fmax(lo.ceil(), f64::from(roi.x));
-    let x1 = fmin(hi.floor() + 1.0, f64::from(roi.x_end()));
-    // An empty interval (lo > hi, including the +inf/-inf of a missed row) gives x0 >= x1.
+    let (left, right) = (f64::from(roi.x), f64::from(roi.x_end()));
+    let x0 = fmin(fmax(lo.ceil(), left), right);
+    let x1 = fmax(fmin(hi.floor() + 1.0, right), left);
+    // An empty interval (lo > hi, including a missed row) gives x0 >= x1.
     if x0 < x1 {
         Span {
-            x0: x0 as i32,
-            x1: x1 as i32,
+            x0: int_of(x0),
+            x1: int_of(x1),
         }
     } else {
         Span::EMPTY
     }
+}
+
+/// An integer-valued float of i32 range as an i32, exactly. Adding 1.5 * 2^52 moves the
+/// integer into the low bits of the mantissa without rounding (it has no fraction), as two's
+/// complement; unlike `as`, this needs no saturation checks and vectorises.
+#[inline]
+fn int_of(v: f64) -> i32 {
+    const SHIFT: f64 = 6_755_399_441_055_744.0; // 1.5 * 2^52
+    (v + SHIFT).to_bits() as u32 as i32
 }
 
 /// Integer rows `first..end` whose centres lie in `[lo, hi]`.
@@ -614,5 +624,53 @@ pub fn set_run(row: &mut [u64], x0: usize, x1: usize) {
             *w = u64::MAX;
         }
         row[w1] |= tail;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn int_of_is_exact_over_the_i32_range_of_images() {
+        for v in (-70_000..70_000).chain([i32::MIN + 1, -1_000_000_000, 1_000_000_000, i32::MAX]) {
+            assert_eq!(int_of(f64::from(v)), v);
+        }
+    }
+
+    #[test]
+    fn clipped_span_matches_rounding_by_integers() {
+        let roi = Roi {
+            x: -7,
+            y: 0,
+            width: 40,
+            height: 1,
+        };
+        // The definition: the pixel centres in [lo, hi], by integer rounding, then clipped.
+        let reference = |lo: f64, hi: f64| {
+            let x0 = ceil_i32(lo).max(roi.x);
+            let x1 = (floor_i32(hi) + 1).min(roi.x_end());
+            if x0 < x1 {
+                Span { x0, x1 }
+            } else {
+                Span::EMPTY
+            }
+        };
+        let mut values = vec![f64::INFINITY, f64::NEG_INFINITY, 1e300, -1e300, 0.0, -0.0];
+        for k in -120..120 {
+            let v = f64::from(k) * 0.25;
+            values.extend([
+                v,
+                v + 1e-12,
+                v - 1e-12,
+                v * (1.0 + f64::EPSILON),
+                v * (1.0 - f64::EPSILON),
+            ]);
+        }
+        for &lo in &values {
+            for &hi in &values {
+                assert_eq!(clipped_span(lo, hi, &roi), reference(lo, hi), "{lo} {hi}");
+            }
+        }
     }
 }
