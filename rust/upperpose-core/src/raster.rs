@@ -282,13 +282,40 @@ fn row_range(lo: f64, hi: f64) -> (i32, i32) {
 }
 
 /// A convex polygon as bounds on x per row: `x >= a + b y` for each lower line and
-/// `x <= a + b y` for each upper line, valid for the rows `rows.0..rows.1`. Unused slots hold
-/// lines at -inf / +inf so that every row evaluates all four without branching.
+/// `x <= a + b y` for each upper line, valid for the rows `rows.0..rows.1`. A horizontal edge
+/// bounds no x (it lies at the polygon's top or bottom, which the row range covers). The other
+/// edges run down on one side and up on the other (around a cycle y cannot only grow), so each
+/// side has one to three lines; spare slots repeat a line of their side, which changes no
+/// maximum or minimum, so every row evaluates three of each without branching.
 #[derive(Debug, Clone, Copy)]
 struct QuadRows {
-    lower: [(f64, f64); 4],
-    upper: [(f64, f64); 4],
+    lower: [(f64, f64); 3],
+    upper: [(f64, f64); 3],
     rows: (i32, i32),
+}
+
+/// Up to three lines of one side of a [`QuadRows`].
+#[derive(Default)]
+struct BoundLines {
+    lines: [(f64, f64); 3],
+    n: usize,
+}
+
+impl BoundLines {
+    fn push(&mut self, line: (f64, f64)) {
+        if self.n < 3 {
+            self.lines[self.n] = line;
+            self.n += 1;
+        }
+    }
+
+    /// The lines, spare slots filled with the first; `None` without any line.
+    fn padded(&self) -> Option<[(f64, f64); 3]> {
+        let first = *self.lines[..self.n].first()?;
+        let mut l = self.lines;
+        l[self.n..].fill(first);
+        Some(l)
+    }
 }
 
 impl QuadRows {
@@ -303,28 +330,26 @@ impl QuadRows {
             return None; // A quadrilateral of no area adds no pixel to the ellipses.
         }
         let s = area2.signum();
-        let mut lower = [(f64::NEG_INFINITY, 0.0); 4];
-        let mut upper = [(f64::INFINITY, 0.0); 4];
+        let (mut lower, mut upper) = (BoundLines::default(), BoundLines::default());
         for i in 0..4 {
             let (a, b) = (quad[i], quad[(i + 1) % 4]);
             let (ex, ey) = (b.x - a.x, b.y - a.y);
             // Inside is where s * cross(e, p - a) >= 0, i.e. s*ey*(x - ax) <= s*ex*(y - ay).
-            // A horizontal edge lies at the polygon's top or bottom: the row range covers it.
             if ey != 0.0 {
                 let slope = ex / ey;
                 let line = (a.x - slope * a.y, slope);
                 if s * ey > 0.0 {
-                    upper[i] = line;
+                    upper.push(line);
                 } else {
-                    lower[i] = line;
+                    lower.push(line);
                 }
             }
         }
         let y_lo = quad.iter().map(|v| v.y).fold(f64::INFINITY, f64::min);
         let y_hi = quad.iter().map(|v| v.y).fold(f64::NEG_INFINITY, f64::max);
         Some(QuadRows {
-            lower,
-            upper,
+            lower: lower.padded()?,
+            upper: upper.padded()?,
             rows: row_range(y_lo, y_hi),
         })
     }
@@ -333,7 +358,7 @@ impl QuadRows {
     fn at(&self, y: f64) -> (f64, f64) {
         let mut lo = f64::NEG_INFINITY;
         let mut hi = f64::INFINITY;
-        for k in 0..4 {
+        for k in 0..3 {
             lo = fmax(lo, self.lower[k].0 + self.lower[k].1 * y);
             hi = fmin(hi, self.upper[k].0 + self.upper[k].1 * y);
         }
