@@ -315,6 +315,42 @@ impl StageRegion {
     }
 }
 
+/// Most pieces a candidate part has (the torso stage's torso, neck and head).
+const MAX_PIECES: usize = 4;
+
+/// Pixel counts over the union of a candidate's pieces, summed with signs (inclusion-exclusion).
+#[derive(Debug, Default)]
+struct UnionCounts {
+    free: i64,
+    sil_free: i64,
+    arm_out: i64,
+    arm_feat: i64,
+}
+
+impl UnionCounts {
+    /// Adds `sign` times the counts of columns `x0..x1` of table row `r`, whose main-table
+    /// counts are `counts`.
+    #[inline]
+    fn add(
+        &mut self,
+        region: &StageRegion,
+        counts: RowCounts,
+        r: usize,
+        x0: i32,
+        x1: i32,
+        sign: i64,
+    ) {
+        let c = counts.run(x0, x1);
+        self.free += sign * i64::from(lane(c, FREE));
+        self.sil_free += sign * i64::from(lane(c, SIL_FREE));
+        if let Some(a) = &region.arm {
+            let c = a.counts.row(r).run(x0, x1);
+            self.arm_out += sign * i64::from(lane(c, OUTSIDE));
+            self.arm_feat += sign * i64::from(lane(c, ARM_SIL));
+        }
+    }
+}
+
 /// Reusable buffers of one evaluating thread.
 #[derive(Debug, Default)]
 pub struct Scratch {
@@ -350,53 +386,20 @@ pub fn evaluate(
     }
     let t = &region.counts;
 
-    // One pass over the grid rows of the pieces' union. Every piece's rows lie on the same grid
-    // of multiples of `step` (the table's too), so grid row `k` (counted from `first`) is entry
-    // `k - skip[p]` of piece `p` and table row `r0 + k`; for `k < skip[p]` the subtraction
-    // wraps past every length.
-    let (mut free, mut sil_free, mut arm_out, mut arm_feat) = (0u32, 0u32, 0u32, 0u32);
+    // Every piece's rows lie on the grid of multiples of `step` that the count table holds:
+    // entry `i` of piece `s` is table row `t.index(s.y0) + i`. Each piece adds its own runs to
+    // the union's counts; where pieces overlap, inclusion-exclusion below takes the overlaps
+    // out again, so no row has to merge runs.
+    let mut union = UnionCounts::default();
     let (mut contour, mut edge, mut motion) = (0u32, 0u32, 0u32);
-    let first = spans
-        .iter()
-        .filter(|s| !s.spans.is_empty())
-        .map(|s| s.y0)
-        .min()
-        .unwrap_or(0);
-    let end = spans.iter().map(|s| s.y(s.spans.len())).max().unwrap_or(0);
-    let mut row: [Span; 4] = [Span::EMPTY; 4];
-    let m = spans.len().min(row.len());
-    let (mut skip, mut len) = ([0usize; 4], [0usize; 4]);
-    for (p, s) in spans[..m].iter().enumerate() {
-        skip[p] = ((s.y0 - first) / step).max(0) as usize;
-        len[p] = s.spans.len();
-    }
-    let rows = if end > first {
-        ((end - first) / step) as usize
-    } else {
-        0
-    };
-    let r0 = if rows > 0 { t.index(first) } else { 0 };
-    for k in 0..rows {
-        let counts = t.row(r0 + k);
-        let mut n = 0;
-        for (p, s) in spans[..m].iter().enumerate() {
-            let i = k.wrapping_sub(skip[p]);
-            if i >= len[p] {
-                continue;
-            }
-            let c = s.spans[i];
+    for s in spans.iter().filter(|s| !s.spans.is_empty()) {
+        let r0 = t.index(s.y0);
+        for (i, &c) in s.spans.iter().enumerate() {
             if c.is_empty() {
                 continue;
             }
-            // Insertion by x0 keeps the (at most four) runs sorted.
-            let mut j = n;
-            while j > 0 && row[j - 1].x0 > c.x0 {
-                row[j] = row[j - 1];
-                j -= 1;
-            }
-            row[j] = c;
-            n += 1;
-
+            let counts = t.row(r0 + i);
+            union.add(region, counts, r0 + i, c.x0, c.x1, 1);
             // Edge and motion under the piece's one-pixel contour: its pixels with a
             // 4-neighbour outside it (the sampled rows above and below stand for the rows).
             let up = if i > 0 { s.spans[i - 1] } else { Span::EMPTY };
@@ -417,35 +420,57 @@ pub fn evaluate(
                 }
             }
         }
-
-        // Area terms over the union of the row's runs.
-        let runs = &row[..n];
-        let mut i = 0;
-        while i < runs.len() {
-            let mut run = runs[i];
-            while i + 1 < runs.len() && runs[i + 1].x0 <= run.x1 {
-                i += 1;
-                run.x1 = run.x1.max(runs[i].x1);
+    }
+    // Every group of two or more pieces: its rows in common, where each row's overlap is one
+    // run (the pieces are convex), counted with the sign of inclusion-exclusion.
+    let m = spans.len();
+    debug_assert!(m <= MAX_PIECES, "{m} pieces: 2^{m} groups");
+    for group in 1u32..(1 << m) {
+        if group.count_ones() < 2 {
+            continue;
+        }
+        let sign = if group.count_ones() % 2 == 0 { -1 } else { 1 };
+        let members = || {
+            (0..m)
+                .filter(move |p| group >> p & 1 == 1)
+                .map(|p| &spans[p])
+        };
+        let first = members().map(|s| s.y0).max().unwrap_or(0);
+        let end = members().map(|s| s.y(s.spans.len())).min().unwrap_or(0);
+        if end <= first {
+            continue;
+        }
+        let mut at = [0usize; MAX_PIECES]; // each member's entry of row `first`
+        for (k, s) in members().enumerate() {
+            at[k] = ((first - s.y0) / step) as usize;
+        }
+        let r0 = t.index(first);
+        for row in 0..((end - first) / step) as usize {
+            let (mut x0, mut x1) = (i32::MIN, i32::MAX);
+            for (k, s) in members().enumerate() {
+                let c = s.spans[at[k] + row];
+                (x0, x1) = (x0.max(c.x0), x1.min(c.x1));
             }
-            let c = counts.run(run.x0, run.x1);
-            free += lane(c, FREE);
-            sil_free += lane(c, SIL_FREE);
-            if let Some(a) = &region.arm {
-                let c = a.counts.row(r0 + k).run(run.x0, run.x1);
-                arm_out += lane(c, OUTSIDE);
-                arm_feat += lane(c, ARM_SIL);
+            if x0 < x1 {
+                union.add(region, t.row(r0 + row), r0 + row, x0, x1, sign);
             }
-            i += 1;
         }
     }
+    let UnionCounts {
+        free,
+        sil_free,
+        arm_out,
+        arm_feat,
+    } = union;
 
     let contour = f64::from(contour.max(1));
     let k = f64::from(step);
+    // Exact: the counts are integers far below 2^53.
     let (free, sil_free, arm_out, arm_feat) = (
-        k * f64::from(free),
-        k * f64::from(sil_free),
-        k * f64::from(arm_out),
-        k * f64::from(arm_feat),
+        k * free as f64,
+        k * sil_free as f64,
+        k * arm_out as f64,
+        k * arm_feat as f64,
     );
     let model_area = region.base_area + free;
     let skin_sum: f64 = skin.iter().map(|p| (p.model - p.image).norm()).sum();
