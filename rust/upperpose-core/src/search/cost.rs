@@ -485,3 +485,109 @@ pub fn evaluate(
         ratio: (model_area / region.sil_area.max(1.0) - 1.0).abs(),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::image::{stride_for, SkinPoints};
+    use crate::outline::{Ellipse, Outline};
+
+    /// Pseudo-random bits, a fixed sequence.
+    fn noise(n: usize, seed: u64) -> Vec<u64> {
+        let mut s = seed;
+        (0..n)
+            .map(|_| {
+                s = s
+                    .wrapping_mul(6_364_136_223_846_793_005)
+                    .wrapping_add(1_442_695_040_888_963_407);
+                s ^ s >> 29
+            })
+            .collect()
+    }
+
+    fn disc(cx: f64, cy: f64, rx: f64, ry: f64, sxy: f64) -> Scanner {
+        let e = Ellipse {
+            cx,
+            cy,
+            sxx: rx * rx,
+            sxy,
+            syy: ry * ry,
+        };
+        Scanner::new(&Outline {
+            ellipses: [Some(e), None],
+            quad: None,
+        })
+    }
+
+    /// The union, contour and area counts of `evaluate` against counting pixel by pixel, for
+    /// overlapping pieces (inclusion-exclusion) and for sampled rows.
+    #[test]
+    fn counts_match_pixel_by_pixel() {
+        let (w, h) = (150u32, 120u32);
+        let n = stride_for(w) * h as usize;
+        let (sil, edge, motion) = (noise(n, 1), noise(n, 2), noise(n, 3));
+        let frame = FrameView::new(w, h, &sil, &edge, &motion, SkinPoints::default()).unwrap();
+        let mut base = BitMask::new(Roi::full(w, h));
+        base.words.copy_from_slice(&noise(n, 4));
+        let roi = Roi {
+            x: 5,
+            y: 3,
+            width: 140,
+            height: 110,
+        };
+        let groups = [
+            vec![
+                disc(50.0, 40.0, 30.0, 20.0, 100.0),
+                disc(70.0, 50.0, 25.0, 30.0, -200.0),
+            ],
+            vec![
+                disc(60.0, 50.0, 40.0, 35.0, 0.0),
+                disc(75.0, 60.0, 20.0, 40.0, 300.0),
+                disc(55.0, 45.0, 10.0, 12.0, 0.0),
+            ],
+            vec![
+                disc(30.0, 30.0, 10.0, 10.0, 0.0),
+                disc(110.0, 90.0, 12.0, 9.0, 0.0),
+            ],
+        ];
+        for step in [1, 2, 3] {
+            let region = StageRegion::new(&frame, roi, roi, step, &base, None);
+            for pieces in &groups {
+                let got = evaluate(&region, pieces, &[], 100.0, &mut Scratch::default());
+                // Pixel by pixel over the sampled rows.
+                let inside = |p: &Scanner, x: i32, y: i32| {
+                    let s = p.span(y, &roi);
+                    x >= s.x0 && x < s.x1
+                };
+                let (mut free, mut sil_free) = (0.0, 0.0);
+                let (mut contour, mut on_edge, mut on_motion) = (0.0, 0.0, 0.0);
+                let bit = |plane: &[u64], x: i32, y: i32| {
+                    plane[y as usize * stride_for(w) + x as usize / 64] >> (x % 64) & 1 == 1
+                };
+                for y in (roi.y..roi.y + roi.height as i32).filter(|y| y % step == 0) {
+                    for x in roi.x..roi.x + roi.width as i32 {
+                        if pieces.iter().any(|p| inside(p, x, y)) && !bit(&base.words, x, y) {
+                            free += 1.0;
+                            sil_free += f64::from(u8::from(bit(&sil, x, y)));
+                        }
+                        for p in pieces {
+                            let out = |dx: i32, dy: i32| !inside(p, x + dx, y + dy);
+                            if inside(p, x, y)
+                                && (out(-1, 0) || out(1, 0) || out(0, -step) || out(0, step))
+                            {
+                                contour += 1.0;
+                                on_edge += f64::from(u8::from(bit(&edge, x, y)));
+                                on_motion += f64::from(u8::from(bit(&motion, x, y)));
+                            }
+                        }
+                    }
+                }
+                let k = f64::from(step);
+                let want_sil = (region.xor0 + k * free - 2.0 * (k * sil_free)) / region.area;
+                assert_eq!(got.sil, want_sil, "step {step}");
+                assert_eq!(got.edge, on_edge / contour, "step {step}");
+                assert_eq!(got.motion, on_motion / contour, "step {step}");
+            }
+        }
+    }
+}
