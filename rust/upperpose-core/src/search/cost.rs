@@ -204,11 +204,16 @@ struct RowCounts<'a> {
 }
 
 impl RowCounts<'_> {
+    /// The packed counts of columns `region.x..x` (`x` inside the region or at its end).
+    #[inline]
+    fn at(&self, x: i32) -> u64 {
+        self.cells[(x - self.x0) as usize]
+    }
+
     /// The packed counts of columns `x0..x1` (inside the region, `x0 <= x1`).
     #[inline]
     fn run(&self, x0: i32, x1: i32) -> u64 {
-        let at = |x: i32| self.cells[(x - self.x0) as usize];
-        at(x1) - at(x0)
+        self.at(x1) - self.at(x0)
     }
 }
 
@@ -329,18 +334,9 @@ struct UnionCounts {
 
 impl UnionCounts {
     /// Adds `sign` times the counts of columns `x0..x1` of table row `r`, whose main-table
-    /// counts are `counts`.
+    /// counts are `c`.
     #[inline]
-    fn add(
-        &mut self,
-        region: &StageRegion,
-        counts: RowCounts,
-        r: usize,
-        x0: i32,
-        x1: i32,
-        sign: i64,
-    ) {
-        let c = counts.run(x0, x1);
+    fn add(&mut self, region: &StageRegion, c: u64, r: usize, x0: i32, x1: i32, sign: i64) {
         self.free += sign * i64::from(lane(c, FREE));
         self.sil_free += sign * i64::from(lane(c, SIL_FREE));
         if let Some(a) = &region.arm {
@@ -399,26 +395,27 @@ pub fn evaluate(
                 continue;
             }
             let counts = t.row(r0 + i);
-            union.add(region, counts, r0 + i, c.x0, c.x1, 1);
+            let (at0, at1) = (counts.at(c.x0), counts.at(c.x1));
+            let whole = at1 - at0;
+            union.add(region, whole, r0 + i, c.x0, c.x1, 1);
             // Edge and motion under the piece's one-pixel contour: its pixels with a
             // 4-neighbour outside it (the sampled rows above and below stand for the rows).
+            // That is the whole run or its two ends (disjoint, each at least one pixel, so the
+            // packed sum of their counts cannot carry); the ends share the whole run's outer
+            // look-ups.
             let up = if i > 0 { s.spans[i - 1] } else { Span::EMPTY };
             let down = s.spans.get(i + 1).copied().unwrap_or(Span::EMPTY);
             let in0 = (c.x0 + 1).max(up.x0).max(down.x0);
             let in1 = (c.x1 - 1).min(up.x1).min(down.x1);
-            let runs = if up.is_empty() || down.is_empty() || in0 >= in1 {
-                [(c.x0, c.x1), (0, 0)]
+            let v = if up.is_empty() || down.is_empty() || in0 >= in1 {
+                contour += (c.x1 - c.x0) as u32;
+                whole
             } else {
-                [(c.x0, in0), (in1, c.x1)]
+                contour += ((in0 - c.x0) + (c.x1 - in1)) as u32;
+                (counts.at(in0) - at0) + (at1 - counts.at(in1))
             };
-            for (a, b) in runs {
-                if a < b {
-                    contour += (b - a) as u32;
-                    let v = counts.run(a, b);
-                    edge += lane(v, EDGE);
-                    motion += lane(v, MOTION);
-                }
-            }
+            edge += lane(v, EDGE);
+            motion += lane(v, MOTION);
         }
     }
     // Every group of two or more pieces: its rows in common, where each row's overlap is one
@@ -452,7 +449,8 @@ pub fn evaluate(
                 (x0, x1) = (x0.max(c.x0), x1.min(c.x1));
             }
             if x0 < x1 {
-                union.add(region, t.row(r0 + row), r0 + row, x0, x1, sign);
+                let c = t.row(r0 + row).run(x0, x1);
+                union.add(region, c, r0 + row, x0, x1, sign);
             }
         }
     }
