@@ -302,6 +302,7 @@ struct BoundLines {
 }
 
 impl BoundLines {
+    /// Adds a line; a side never has four (see [`QuadRows`]), so none is ever dropped.
     fn push(&mut self, line: (f64, f64)) {
         if self.n < 3 {
             self.lines[self.n] = line;
@@ -309,7 +310,8 @@ impl BoundLines {
         }
     }
 
-    /// The lines, spare slots filled with the first; `None` without any line.
+    /// The lines, spare slots filled with the first; `None` without any line (which a
+    /// polygon of positive area cannot have).
     fn padded(&self) -> Option<[(f64, f64); 3]> {
         let first = *self.lines[..self.n].first()?;
         let mut l = self.lines;
