@@ -42,6 +42,16 @@ impl Scene {
     }
 }
 
+/// The arm's region in [`Scene`]: its bounding box, padded as the search would.
+pub fn arm_roi() -> Roi {
+    Roi {
+        x: 60,
+        y: 60,
+        width: 260,
+        height: 260,
+    }
+}
+
 impl Default for Scene {
     fn default() -> Self {
         Self::new()

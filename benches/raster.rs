@@ -5,7 +5,7 @@
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use std::hint::black_box;
-use upperpose_bench::Scene;
+use upperpose_bench::{arm_roi, Scene};
 use upperpose_core::outline::outline_of_solid;
 use upperpose_core::solid::solid_of_part;
 use upperpose_core::{BitMask, BodyRaster, Part, Roi, RowSpans, Scanner};
@@ -19,13 +19,7 @@ fn bench(c: &mut Criterion) {
             .unwrap_or_else(|| panic!("arm not visible"))
     });
     let scanners = outlines.map(|o| Scanner::new(&o));
-    // The arm's region: its bounding box in this scene, padded as the search would.
-    let roi = Roi {
-        x: 60,
-        y: 60,
-        width: 260,
-        height: 260,
-    };
+    let roi = arm_roi();
     let mut spans = [RowSpans::default(), RowSpans::default()];
     let mut mask = BitMask::new(roi);
 

@@ -95,14 +95,15 @@ pub fn ellipse_of_ellipsoid(e: &Ellipsoid, camera: &Camera) -> Option<Ellipse> {
     if w <= 0.0 || !w.is_finite() {
         return None;
     }
-    let n = dual / w;
-    let (cx, cy) = (-n[(0, 2)], -n[(1, 2)]);
+    // Only the five entries used are divided.
+    let n = |r: usize, c: usize| dual[(r, c)] / w;
+    let (cx, cy) = (-n(0, 2), -n(1, 2));
     Some(Ellipse {
         cx,
         cy,
-        sxx: n[(0, 0)] + cx * cx,
-        sxy: n[(0, 1)] + cx * cy,
-        syy: n[(1, 1)] + cy * cy,
+        sxx: n(0, 0) + cx * cx,
+        sxy: n(0, 1) + cx * cy,
+        syy: n(1, 1) + cy * cy,
     })
 }
 

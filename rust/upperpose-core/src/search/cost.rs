@@ -78,9 +78,14 @@ impl CostTerms {
 /// ([`FrameView::new`] rejects wider images). Only the rows the stage samples are built.
 #[derive(Debug, Clone)]
 struct CountTable {
-    roi: Roi,
-    /// Where each row of the region starts in `cells` (unsampled rows: nowhere, never read).
-    row_start: Vec<usize>,
+    /// The region's first column.
+    x0: i32,
+    /// The first sampled row and the rows between sampled rows: table row `r` is image row
+    /// `y0 + r * step`.
+    y0: i32,
+    step: i32,
+    /// Cells per table row: the region's width + 1.
+    row_len: usize,
     cells: Vec<u64>,
 }
 
@@ -125,14 +130,13 @@ impl CountTable {
     /// of `step` are built.
     fn new(roi: Roi, step: i32, stride: usize, planes: [&[u64]; 4]) -> Self {
         let row_len = roi.width as usize + 1;
+        let step = step.max(1);
         let rows: Vec<i32> = (roi.y..roi.y + roi.height as i32)
-            .filter(|y| y % step.max(1) == 0)
+            .filter(|y| y % step == 0)
             .collect();
-        let mut row_start = vec![usize::MAX; roi.height as usize];
         let mut cells = vec![0u64; row_len * rows.len()];
         let (x0, x1) = (roi.x as usize, roi.x as usize + roi.width as usize);
-        for (r, (&y, out)) in rows.iter().zip(cells.chunks_exact_mut(row_len)).enumerate() {
-            row_start[(y - roi.y) as usize] = r * row_len;
+        for (&y, out) in rows.iter().zip(cells.chunks_exact_mut(row_len)) {
             let base = y as usize * stride;
             let mut acc = 0u64;
             let mut i = 1;
@@ -167,19 +171,49 @@ impl CountTable {
             }
         }
         CountTable {
-            roi,
-            row_start,
+            x0: roi.x,
+            y0: rows.first().copied().unwrap_or(roi.y),
+            step,
+            row_len,
             cells,
         }
     }
 
-    /// The packed counts of columns `x0..x1` (inside the region, `x0 <= x1`) of image row `y`,
-    /// a sampled row.
+    /// The table row of image row `y`, a sampled row of the region.
     #[inline]
-    fn run(&self, y: i32, x0: i32, x1: i32) -> u64 {
-        let row = self.row_start[(y - self.roi.y) as usize];
-        let at = |x: i32| self.cells[row + (x - self.roi.x) as usize];
-        at(x1) - at(x0)
+    fn index(&self, y: i32) -> usize {
+        ((y - self.y0) / self.step) as usize
+    }
+
+    /// Table row `r`, to count runs of it with [`RowCounts::run`].
+    #[inline]
+    fn row(&self, r: usize) -> RowCounts<'_> {
+        let start = r * self.row_len;
+        RowCounts {
+            x0: self.x0,
+            cells: &self.cells[start..start + self.row_len],
+        }
+    }
+}
+
+/// The running counts of one sampled row.
+#[derive(Clone, Copy)]
+struct RowCounts<'a> {
+    x0: i32,
+    cells: &'a [u64],
+}
+
+impl RowCounts<'_> {
+    /// The packed counts of columns `region.x..x` (`x` inside the region or at its end).
+    #[inline]
+    fn at(&self, x: i32) -> u64 {
+        self.cells[(x - self.x0) as usize]
+    }
+
+    /// The packed counts of columns `x0..x1` (inside the region, `x0 <= x1`).
+    #[inline]
+    fn run(&self, x0: i32, x1: i32) -> u64 {
+        self.at(x1) - self.at(x0)
     }
 }
 
@@ -302,6 +336,33 @@ impl StageRegion {
     }
 }
 
+/// Most pieces a candidate part has (the torso stage's torso, neck and head).
+const MAX_PIECES: usize = 4;
+
+/// Pixel counts over the union of a candidate's pieces, summed with signs (inclusion-exclusion).
+#[derive(Debug, Default)]
+struct UnionCounts {
+    free: i64,
+    sil_free: i64,
+    arm_out: i64,
+    arm_feat: i64,
+}
+
+impl UnionCounts {
+    /// Adds `sign` times the counts of columns `x0..x1` of table row `r`, whose main-table
+    /// counts are `c`.
+    #[inline]
+    fn add(&mut self, region: &StageRegion, c: u64, r: usize, x0: i32, x1: i32, sign: i64) {
+        self.free += sign * i64::from(lane(c, FREE));
+        self.sil_free += sign * i64::from(lane(c, SIL_FREE));
+        if let Some(a) = &region.arm {
+            let c = a.counts.row(r).run(x0, x1);
+            self.arm_out += sign * i64::from(lane(c, OUTSIDE));
+            self.arm_feat += sign * i64::from(lane(c, ARM_SIL));
+        }
+    }
+}
+
 /// Reusable buffers of one evaluating thread.
 #[derive(Debug, Default)]
 pub struct Scratch {
@@ -337,105 +398,93 @@ pub fn evaluate(
     }
     let t = &region.counts;
 
-    // Area terms over the union of the pieces, row by row. Every piece's rows lie on the same
-    // grid of multiples of `step`, so row `y` is entry `(y - s.y0) / step` of piece `s`.
-    let (mut free, mut sil_free, mut arm_out, mut arm_feat) = (0u32, 0u32, 0u32, 0u32);
-    let first = spans
-        .iter()
-        .filter(|s| !s.spans.is_empty())
-        .map(|s| s.y0)
-        .min()
-        .unwrap_or(0);
-    let end = spans.iter().map(|s| s.y(s.spans.len())).max().unwrap_or(0);
-    let mut row: [Span; 4] = [Span::EMPTY; 4];
-    // Grid row `k` (counted from `first`) is entry `k - skip[p]` of piece `p`; for `k < skip[p]`
-    // the subtraction wraps past every length.
-    let m = spans.len().min(row.len());
-    let (mut skip, mut len) = ([0usize; 4], [0usize; 4]);
-    for (p, s) in spans[..m].iter().enumerate() {
-        skip[p] = ((s.y0 - first) / step).max(0) as usize;
-        len[p] = s.spans.len();
-    }
-    let rows = if end > first {
-        ((end - first) / step) as usize
-    } else {
-        0
-    };
-    for k in 0..rows {
-        let y = first + k as i32 * step;
-        let mut n = 0;
-        for p in 0..m {
-            let i = k.wrapping_sub(skip[p]);
-            if i >= len[p] {
-                continue;
-            }
-            let sp = spans[p].spans[i];
-            if !sp.is_empty() {
-                // Insertion by x0 keeps the (at most four) runs sorted.
-                let mut j = n;
-                while j > 0 && row[j - 1].x0 > sp.x0 {
-                    row[j] = row[j - 1];
-                    j -= 1;
-                }
-                row[j] = sp;
-                n += 1;
-            }
-        }
-        let runs = &row[..n];
-        let mut i = 0;
-        while i < runs.len() {
-            let mut run = runs[i];
-            while i + 1 < runs.len() && runs[i + 1].x0 <= run.x1 {
-                i += 1;
-                run.x1 = run.x1.max(runs[i].x1);
-            }
-            let c = t.run(y, run.x0, run.x1);
-            free += lane(c, FREE);
-            sil_free += lane(c, SIL_FREE);
-            if let Some(a) = &region.arm {
-                let c = a.counts.run(y, run.x0, run.x1);
-                arm_out += lane(c, OUTSIDE);
-                arm_feat += lane(c, ARM_SIL);
-            }
-            i += 1;
-        }
-    }
-
-    // Edge and motion under each piece's one-pixel contour.
+    // Every piece's rows lie on the grid of multiples of `step` that the count table holds:
+    // entry `i` of piece `s` is table row `t.index(s.y0) + i`. Each piece adds its own runs to
+    // the union's counts; where pieces overlap, inclusion-exclusion below takes the overlaps
+    // out again, so no row has to merge runs.
+    let mut union = UnionCounts::default();
     let (mut contour, mut edge, mut motion) = (0u32, 0u32, 0u32);
-    for s in spans.iter() {
-        for (i, c) in s.spans.iter().enumerate() {
+    for s in spans.iter().filter(|s| !s.spans.is_empty()) {
+        let r0 = t.index(s.y0);
+        for (i, &c) in s.spans.iter().enumerate() {
             if c.is_empty() {
                 continue;
             }
+            let counts = t.row(r0 + i);
+            let (at0, at1) = (counts.at(c.x0), counts.at(c.x1));
+            let whole = at1 - at0;
+            union.add(region, whole, r0 + i, c.x0, c.x1, 1);
+            // Edge and motion under the piece's one-pixel contour: its pixels with a
+            // 4-neighbour outside it (the sampled rows above and below stand for the rows).
+            // That is the whole run or its two ends (disjoint, each at least one pixel, so the
+            // packed sum of their counts cannot carry); the ends share the whole run's outer
+            // look-ups.
             let up = if i > 0 { s.spans[i - 1] } else { Span::EMPTY };
             let down = s.spans.get(i + 1).copied().unwrap_or(Span::EMPTY);
             let in0 = (c.x0 + 1).max(up.x0).max(down.x0);
             let in1 = (c.x1 - 1).min(up.x1).min(down.x1);
-            let y = s.y(i);
-            let runs = if up.is_empty() || down.is_empty() || in0 >= in1 {
-                [(c.x0, c.x1), (0, 0)]
+            let v = if up.is_empty() || down.is_empty() || in0 >= in1 {
+                contour += (c.x1 - c.x0) as u32;
+                whole
             } else {
-                [(c.x0, in0), (in1, c.x1)]
+                contour += ((in0 - c.x0) + (c.x1 - in1)) as u32;
+                (counts.at(in0) - at0) + (at1 - counts.at(in1))
             };
-            for (a, b) in runs {
-                if a < b {
-                    contour += (b - a) as u32;
-                    let v = t.run(y, a, b);
-                    edge += lane(v, EDGE);
-                    motion += lane(v, MOTION);
-                }
+            edge += lane(v, EDGE);
+            motion += lane(v, MOTION);
+        }
+    }
+    // Every group of two or more pieces: its rows in common, where each row's overlap is one
+    // run (the pieces are convex), counted with the sign of inclusion-exclusion.
+    let m = spans.len();
+    debug_assert!(m <= MAX_PIECES, "{m} pieces: 2^{m} groups");
+    for group in 1u32..(1 << m) {
+        if group.count_ones() < 2 {
+            continue;
+        }
+        let sign = if group.count_ones() % 2 == 0 { -1 } else { 1 };
+        let members = || {
+            (0..m)
+                .filter(move |p| group >> p & 1 == 1)
+                .map(|p| &spans[p])
+        };
+        let first = members().map(|s| s.y0).max().unwrap_or(0);
+        let end = members().map(|s| s.y(s.spans.len())).min().unwrap_or(0);
+        if end <= first {
+            continue;
+        }
+        let mut at = [0usize; MAX_PIECES]; // each member's entry of row `first`
+        for (k, s) in members().enumerate() {
+            at[k] = ((first - s.y0) / step) as usize;
+        }
+        let r0 = t.index(first);
+        for row in 0..((end - first) / step) as usize {
+            let (mut x0, mut x1) = (i32::MIN, i32::MAX);
+            for (k, s) in members().enumerate() {
+                let c = s.spans[at[k] + row];
+                (x0, x1) = (x0.max(c.x0), x1.min(c.x1));
+            }
+            if x0 < x1 {
+                let c = t.row(r0 + row).run(x0, x1);
+                union.add(region, c, r0 + row, x0, x1, sign);
             }
         }
     }
+    let UnionCounts {
+        free,
+        sil_free,
+        arm_out,
+        arm_feat,
+    } = union;
 
     let contour = f64::from(contour.max(1));
     let k = f64::from(step);
+    // Exact: the counts are integers far below 2^53.
     let (free, sil_free, arm_out, arm_feat) = (
-        k * f64::from(free),
-        k * f64::from(sil_free),
-        k * f64::from(arm_out),
-        k * f64::from(arm_feat),
+        k * free as f64,
+        k * sil_free as f64,
+        k * arm_out as f64,
+        k * arm_feat as f64,
     );
     let model_area = region.base_area + free;
     let skin_sum: f64 = skin.iter().map(|p| (p.model - p.image).norm()).sum();
@@ -455,8 +504,8 @@ pub fn evaluate(
 mod tests {
     #![allow(clippy::unwrap_used)] // test code may fail loudly
     use super::*;
-    use crate::image::SkinPoints;
-    use crate::outline::outline_of_solid;
+    use crate::image::{stride_for, SkinPoints};
+    use crate::outline::{outline_of_solid, Ellipse, Outline};
     use crate::solid::{solid_of_part, Part};
     use crate::{skeleton_from_pose, BodyModel, Camera, Pose};
     use nalgebra::Vector3;
@@ -510,5 +559,104 @@ mod tests {
         let n = mask.count() as f64;
         assert_eq!(score(&region), n / 40_000.0);
         assert_eq!(score(&region.normalised_by(500.0)), n / 500.0);
+    }
+
+    /// Pseudo-random bits, a fixed sequence.
+    fn noise(n: usize, seed: u64) -> Vec<u64> {
+        let mut s = seed;
+        (0..n)
+            .map(|_| {
+                s = s
+                    .wrapping_mul(6_364_136_223_846_793_005)
+                    .wrapping_add(1_442_695_040_888_963_407);
+                s ^ s >> 29
+            })
+            .collect()
+    }
+
+    fn disc(cx: f64, cy: f64, rx: f64, ry: f64, sxy: f64) -> Scanner {
+        let e = Ellipse {
+            cx,
+            cy,
+            sxx: rx * rx,
+            sxy,
+            syy: ry * ry,
+        };
+        Scanner::new(&Outline {
+            ellipses: [Some(e), None],
+            quad: None,
+        })
+    }
+
+    /// The union, contour and area counts of `evaluate` against counting pixel by pixel, for
+    /// overlapping pieces (inclusion-exclusion) and for sampled rows.
+    #[test]
+    fn counts_match_pixel_by_pixel() {
+        let (w, h) = (150u32, 120u32);
+        let n = stride_for(w) * h as usize;
+        let (sil, edge, motion) = (noise(n, 1), noise(n, 2), noise(n, 3));
+        let frame = FrameView::new(w, h, &sil, &edge, &motion, SkinPoints::default()).unwrap();
+        let mut base = BitMask::new(Roi::full(w, h));
+        base.words.copy_from_slice(&noise(n, 4));
+        let roi = Roi {
+            x: 5,
+            y: 3,
+            width: 140,
+            height: 110,
+        };
+        let groups = [
+            vec![
+                disc(50.0, 40.0, 30.0, 20.0, 100.0),
+                disc(70.0, 50.0, 25.0, 30.0, -200.0),
+            ],
+            vec![
+                disc(60.0, 50.0, 40.0, 35.0, 0.0),
+                disc(75.0, 60.0, 20.0, 40.0, 300.0),
+                disc(55.0, 45.0, 10.0, 12.0, 0.0),
+            ],
+            vec![
+                disc(30.0, 30.0, 10.0, 10.0, 0.0),
+                disc(110.0, 90.0, 12.0, 9.0, 0.0),
+            ],
+        ];
+        for step in [1, 2, 3] {
+            let region = StageRegion::new(&frame, roi, roi, step, &base, None, None);
+            for pieces in &groups {
+                let got = evaluate(&region, pieces, &[], 100.0, &mut Scratch::default());
+                // Pixel by pixel over the sampled rows.
+                let inside = |p: &Scanner, x: i32, y: i32| {
+                    let s = p.span(y, &roi);
+                    x >= s.x0 && x < s.x1
+                };
+                let (mut free, mut sil_free) = (0.0, 0.0);
+                let (mut contour, mut on_edge, mut on_motion) = (0.0, 0.0, 0.0);
+                let bit = |plane: &[u64], x: i32, y: i32| {
+                    plane[y as usize * stride_for(w) + x as usize / 64] >> (x % 64) & 1 == 1
+                };
+                for y in (roi.y..roi.y + roi.height as i32).filter(|y| y % step == 0) {
+                    for x in roi.x..roi.x + roi.width as i32 {
+                        if pieces.iter().any(|p| inside(p, x, y)) && !bit(&base.words, x, y) {
+                            free += 1.0;
+                            sil_free += f64::from(u8::from(bit(&sil, x, y)));
+                        }
+                        for p in pieces {
+                            let out = |dx: i32, dy: i32| !inside(p, x + dx, y + dy);
+                            if inside(p, x, y)
+                                && (out(-1, 0) || out(1, 0) || out(0, -step) || out(0, step))
+                            {
+                                contour += 1.0;
+                                on_edge += f64::from(u8::from(bit(&edge, x, y)));
+                                on_motion += f64::from(u8::from(bit(&motion, x, y)));
+                            }
+                        }
+                    }
+                }
+                let k = f64::from(step);
+                let want_sil = (region.xor0 + k * free - 2.0 * (k * sil_free)) / region.sil_norm;
+                assert_eq!(got.sil, want_sil, "step {step}");
+                assert_eq!(got.edge, on_edge / contour, "step {step}");
+                assert_eq!(got.motion, on_motion / contour, "step {step}");
+            }
+        }
     }
 }

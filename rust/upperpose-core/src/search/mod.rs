@@ -350,26 +350,36 @@ impl StageSetup<'_> {
         (p, r)
     }
 
+    /// The skeleton of a candidate. Only the stage's own part moves: repose just that
+    /// (docs/search.md).
+    fn skeleton(&self, pose: &Pose, root: &Vector3<f64>) -> Skeleton {
+        let body = &self.req.body;
+        match self.stage.side() {
+            Some(side) => self.base_skel.with_arm(pose, side, body),
+            None => self.base_skel.with_trunk(pose, root, body),
+        }
+    }
+
     fn terms(
         &self,
         pose: &Pose,
         root: &Vector3<f64>,
         scratch: &mut EvalScratch,
     ) -> Option<CostTerms> {
+        self.terms_of(&self.skeleton(pose, root), scratch)
+    }
+
+    /// The stage's terms for a candidate's skeleton; `None` when it is rejected.
+    fn terms_of(&self, skel: &Skeleton, scratch: &mut EvalScratch) -> Option<CostTerms> {
         let req = self.req;
-        // Only the stage's own part moves: repose just that (docs/search.md).
-        let skel = match self.stage.side() {
-            Some(side) => self.base_skel.with_arm(pose, side, &req.body),
-            None => self.base_skel.with_trunk(pose, root, &req.body),
-        };
         if let (Some(side), true) = (self.stage.side(), self.config.non_penetration) {
-            if constraints::arm_penetrates(&skel, &req.body, side) {
+            if constraints::arm_penetrates(skel, &req.body, side) {
                 return None;
             }
         }
         scratch.pieces.clear();
         for &p in self.stage.parts() {
-            let o = outline_of_solid(&solid_of_part(p, &skel, &req.body), &req.camera)?;
+            let o = outline_of_solid(&solid_of_part(p, skel, &req.body), &req.camera)?;
             scratch.pieces.push(Scanner::new(&o));
         }
         let (joint, _) = self.stage.skin_joint();
@@ -388,15 +398,17 @@ impl StageSetup<'_> {
 
     fn cost(&self, x: &[f64], scratch: &mut EvalScratch) -> f64 {
         let (p, r) = self.candidate(x);
-        self.terms(&p, &r, scratch).map_or(f64::INFINITY, |t| {
-            t.total(&self.config.weights) + self.behind(&p, &r)
+        let skel = self.skeleton(&p, &r);
+        self.terms_of(&skel, scratch).map_or(f64::INFINITY, |t| {
+            t.total(&self.config.weights) + self.behind(&skel)
         })
     }
 
     /// The prior against a hand behind the body (docs/search.md): the silhouette of an arm
     /// swung forwards is nearly the mirror image of one swung backwards, and people facing a
-    /// camera rarely reach behind themselves.
-    fn behind(&self, p: &Pose, r: &Vector3<f64>) -> f64 {
+    /// camera rarely reach behind themselves. `skel` is the candidate's: in an arm stage its
+    /// torso is the base's and its arm the candidate's, as a full reposing would give.
+    fn behind(&self, skel: &Skeleton) -> f64 {
         let (Some(side), w) = (self.stage.side(), self.config.behind_weight) else {
             return 0.0;
         };
@@ -404,7 +416,6 @@ impl StageSetup<'_> {
             return 0.0;
         }
         let b = &self.req.body;
-        let skel = skeleton_from_pose(p, r, b);
         let arm = skel.arm(side);
         // Depth of the hand behind the shoulder in the torso's frame (+Z: away from the camera).
         let d = skel.torso.transpose() * (arm.hand - arm.shoulder);
