@@ -15,7 +15,7 @@ from upperpose.features import (
 )
 from upperpose.features.background import iterative_masked_median
 from upperpose.features.config import PersonTemplate
-from upperpose.features.person_cut import grabcut_seed, person_in_image
+from upperpose.features.person_cut import grabcut_seed, person_in_median
 from upperpose.features.scene import textured_background
 from upperpose.synth import ClipConfig, plan_clip, render_frame
 
@@ -135,20 +135,21 @@ def test_person_present_from_the_first_frame_is_cut_out_of_the_plate(still_perso
 def test_person_cut_finds_the_person_and_nothing_without_a_face(still_person) -> None:
     frames, persons, _ = still_person
     median = np.median(np.stack(frames), axis=0).astype(np.uint8)
-    found = person_in_image(median, FeatureConfig())
+    found = person_in_median(median, frames, FeatureConfig())
     assert found is not None
     always = np.all(persons, axis=0)
     assert (found[always] > 0).mean() > 0.9  # covers where the person always is
     assert (found > 0).sum() < 1.6 * np.any(persons, axis=0).sum()  # and not the room
-    assert person_in_image(textured_background(H, W, seed=7), FeatureConfig()) is None
+    room = textured_background(H, W, seed=7)
+    assert person_in_median(room, [room] * 3, FeatureConfig()) is None
 
 
 def test_grabcut_seed_nests_its_regions() -> None:
     seed = grabcut_seed((480, 640), (300, 100, 50, 50), PersonTemplate())
     assert seed[125, 325] == cv2.GC_FGD  # face core
     assert seed[250, 325] == cv2.GC_FGD  # chest
-    assert seed[400, 325 + 40] == cv2.GC_PR_FGD  # torso
-    assert seed[400, 325 + 100] == cv2.GC_PR_BGD  # beside the torso, where an arm may hang
+    assert seed[400, 325 + 25] == cv2.GC_PR_FGD  # torso
+    assert seed[400, 325 + 70] == cv2.GC_PR_BGD  # beside the torso, where an arm may hang
     assert seed[400, 325 + 200] == cv2.GC_BGD and seed[10, 10] == cv2.GC_BGD
     # A face at the bottom edge leaves no chest in view, and still makes a seed.
     low = grabcut_seed((480, 640), (300, 440, 40, 40), PersonTemplate())

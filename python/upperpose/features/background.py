@@ -23,9 +23,10 @@ import numpy as np
 import numpy.typing as npt
 
 from upperpose.exceptions import VideoError
+from upperpose.features.change import colour_change
 from upperpose.features.checks import Frame, Mask, check_frame
 from upperpose.features.config import FeatureConfig
-from upperpose.features.person_cut import find_face, person_in_image
+from upperpose.features.person_cut import find_face, person_in_median
 from upperpose.features.skin import skin_mask
 
 Int16Image = npt.NDArray[np.int16]
@@ -49,39 +50,6 @@ def grey_for_edges(frame: Frame, blur: int) -> npt.NDArray[np.uint8]:
 def sobel_pair(grey: npt.NDArray[np.uint8]) -> tuple[Int16Image, Int16Image]:
     """3x3 Sobel derivatives in x and y as int16 images."""
     return cv2.Sobel(grey, cv2.CV_16S, 1, 0, ksize=3), cv2.Sobel(grey, cv2.CV_16S, 0, 1, ksize=3)
-
-
-def colour_change(
-    a: Frame,
-    b: Frame,
-    threshold: int,
-    work: tuple[Frame, Frame, Mask] | None = None,
-    out: Mask | None = None,
-) -> Mask:
-    """255 where any channel of two BGR frames differs by more than `threshold`, else 0.
-
-    A per-channel test keeps chroma changes that a grey difference would hide (a blue shirt
-    over a green wall of the same brightness).
-
-    Args:
-        a: `(H, W, 3)` uint8 frame.
-        b: `(H, W, 3)` uint8 frame of the same size.
-        threshold: largest per-channel difference still counted as unchanged.
-        work: optional preallocated ((H, W, 3), (H, W, 3), (H, W)) uint8 scratch arrays.
-        out: optional preallocated `(H, W)` uint8 result.
-    """
-    if work is None:
-        diff, over, grey = (
-            np.empty_like(a),
-            np.empty_like(a),
-            np.empty(a.shape[:2], np.uint8),
-        )
-    else:
-        diff, over, grey = work
-    cv2.absdiff(a, b, dst=diff)
-    cv2.compare(diff, threshold, cv2.CMP_GT, dst=over)
-    cv2.cvtColor(over, cv2.COLOR_BGR2GRAY, dst=grey)  # nonzero iff some channel is 255
-    return cv2.compare(grey, 0, cv2.CMP_GT, dst=out) if out is not None else cv2.compare(grey, 0, cv2.CMP_GT)
 
 
 @dataclass(frozen=True)
@@ -221,7 +189,7 @@ def iterative_masked_median(samples: Sequence[Frame], config: FeatureConfig) -> 
     """
     stack = np.stack(samples)
     median = np.median(stack, axis=0).astype(np.uint8)
-    person = person_in_image(median, config) if config.bg_cut_person else None
+    person = person_in_median(median, samples, config) if config.bg_cut_person else None
     if person is None:
         plate = median
         for _ in range(config.bg_iterations):

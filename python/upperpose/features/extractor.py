@@ -8,8 +8,9 @@ import cv2
 import numpy as np
 import numpy.typing as npt
 
-from upperpose.features.background import Background, Int16Image, colour_change, square
+from upperpose.features.background import Background, Int16Image, square
 from upperpose.features.blobs import find_skin_blobs
+from upperpose.features.change import colour_change
 from upperpose.features.checks import Frame, Mask, check_frame, check_mask
 from upperpose.features.config import FeatureConfig
 from upperpose.features.exposure import GREY_WEIGHTS, ExposureMeter, needs_compensation
