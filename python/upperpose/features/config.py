@@ -143,6 +143,19 @@ class FeatureConfig:
     object that slipped through has P_SB near 0. Twice the 0.03 used on the undilated I_edge:
     the dilation about doubles the width of an outline's edge band."""
 
+    blob_min_changed: float = 0.9
+    """Skin blobs: a blob below `blob_min_gradient` is kept when at least this share of it is
+    I_sub and its outline is the person's outline (`blob_min_room_outline`): a limb that
+    differs from the room in colour but hardly in grey level (a dark arm over a dark sofa;
+    features/blobs.py `stands_out_in_colour`). Above 1: never."""
+
+    blob_min_room_outline: float = 0.25
+    """Skin blobs: for that, at least this share of a `blob_ring`-pixel ring around the blob
+    must be outside I_sub (the room, not more of the person)."""
+
+    blob_ring: int = 2
+    """Skin blobs: width in pixels of the ring around a blob checked against I_sub."""
+
     hand_gate: float = 0.9
     """Hand and head matching: largest distance from the predicted joint to the nearest
     blob pixel, in units of the predicted shoulder width."""
@@ -281,6 +294,9 @@ class FeatureConfig:
             "bg_person_dilate",
             "bg_person_match",
         ):
+            if getattr(self, name) < 0:
+                raise ValueError(f"{name} must be >= 0, got {getattr(self, name)}")
+        for name in ("blob_ring",):
             if getattr(self, name) < 0:
                 raise ValueError(f"{name} must be >= 0, got {getattr(self, name)}")
         if self.edge_blur > 1 and self.edge_blur % 2 == 0:

@@ -252,7 +252,7 @@ class FeatureExtractor:
         clock.lap("dilate")
         # P_SB counts edges within a pixel of the blob: its outline edges lie in a band that the
         # skin mask, shrunk by colour blending and its opening, often stops just short of.
-        blobs = find_skin_blobs(skin, edge_dilated, cfg)
+        blobs = find_skin_blobs(skin, edge_dilated, cfg, sub)
         clock.lap("blobs")
         head, right_hand, left_hand = locate_points(blobs, joints, cfg)
         clock.lap("points")
