@@ -305,7 +305,7 @@ def estimate_background(
     warnings.warn(
         f"no clean plate given: the background was estimated from the video ({method}); "
         "a photo of the empty scene (--background) gives better silhouettes, "
-        "and an estimate keeps the parts of a person who hardly moves",
+        "and an estimate can only guess the room behind a person who hardly moves",
         CleanPlateWarning,
         stacklevel=2,
     )
