@@ -160,3 +160,22 @@ def test_head_point_hardly_moves_with_the_hairline() -> None:
     assert np.hypot(points[1][0] - 320, points[1][1] - 100) < 9  # 108.1
     # The centroid of the top half shoulder width moved 12 px (92.0 -> 103.9).
     assert points[1][1] - points[0][1] < 8
+
+
+def test_a_limb_that_differs_from_the_room_only_in_colour_is_kept() -> None:
+    # A dark forearm hanging in front of a dark sofa: no grey-level edge (P_SB = 0), but it is
+    # all I_sub and its outline borders the unchanged room: kept. A skin-coloured patch inside
+    # changed clothing (I_sub all round) and a patch that does not differ from the plate are not.
+    skin = np.zeros((480, 640), np.uint8)
+    sub = np.zeros_like(skin)
+    edge = np.zeros_like(skin)
+    cv2.rectangle(skin, (100, 300), (125, 400), 255, -1)  # forearm
+    cv2.rectangle(sub, (100, 250), (125, 400), 255, -1)  # forearm and sleeve
+    cv2.rectangle(sub, (300, 250), (420, 479), 255, -1)  # clothes ...
+    cv2.rectangle(skin, (340, 320), (380, 380), 255, -1)  # ... with a skin-coloured patch
+    cv2.rectangle(skin, (500, 100), (540, 140), 255, -1)  # unchanged: not in I_sub
+    kept = find_skin_blobs(skin, edge, CONFIG, sub)
+    assert [b.bbox for b in kept] == [(100, 300, 26, 101)]
+    assert kept[0].gradient == 0.0
+    assert find_skin_blobs(skin, edge, CONFIG) == []  # without I_sub: P_SB alone, as before
+    assert find_skin_blobs(skin, edge, CONFIG.replace(blob_min_changed=1.1), sub) == []

@@ -19,7 +19,7 @@ from upperpose.features.background import (
     sample_video,
 )
 from upperpose.features.blobs import SkinBlob, find_skin_blobs
-from upperpose.features.config import SKIN_SPACES, FeatureConfig
+from upperpose.features.config import SKIN_SPACES, FeatureConfig, PersonTemplate
 from upperpose.features.extractor import FeatureExtractor, compute_features
 from upperpose.features.frame import (
     POINT_ABSENT,
@@ -44,6 +44,7 @@ __all__ = [
     "POINT_MERGED",
     "POINT_NAMES",
     "SKIN_SPACES",
+    "PersonTemplate",
     "Background",
     "CleanPlateWarning",
     "FeatureConfig",

@@ -2,9 +2,12 @@
 
 Without a clean plate the plate is estimated from the video (`estimate_plate`): if the video
 opens on a static scene with no face in it, the median of that lead-in is the plate; otherwise a
-temporal median with the person masked out (median, mark each sample's foreground against it,
-median over the remaining samples, repeated). Neither can see behind a person who never
-moves, hence the `CleanPlateWarning`.
+temporal median with the person masked out: the person who stays put is cut out of the median
+image (`person_cut`) and masked in every sample that still shows them there; each sample's
+foreground against the current plate is masked too, and the median is taken over what remains,
+repeated. Pixels that no sample shows without the person are filled by inpainting from their
+surroundings. Neither method sees what is really behind a person who never moves, hence the
+`CleanPlateWarning`.
 """
 
 from __future__ import annotations
@@ -20,9 +23,10 @@ import numpy as np
 import numpy.typing as npt
 
 from upperpose.exceptions import VideoError
+from upperpose.features.change import colour_change
 from upperpose.features.checks import Frame, Mask, check_frame
 from upperpose.features.config import FeatureConfig
-from upperpose.features.faces import FaceDetector, choose_face
+from upperpose.features.person_cut import find_face, person_in_median
 from upperpose.features.skin import skin_mask
 
 Int16Image = npt.NDArray[np.int16]
@@ -46,39 +50,6 @@ def grey_for_edges(frame: Frame, blur: int) -> npt.NDArray[np.uint8]:
 def sobel_pair(grey: npt.NDArray[np.uint8]) -> tuple[Int16Image, Int16Image]:
     """3x3 Sobel derivatives in x and y as int16 images."""
     return cv2.Sobel(grey, cv2.CV_16S, 1, 0, ksize=3), cv2.Sobel(grey, cv2.CV_16S, 0, 1, ksize=3)
-
-
-def colour_change(
-    a: Frame,
-    b: Frame,
-    threshold: int,
-    work: tuple[Frame, Frame, Mask] | None = None,
-    out: Mask | None = None,
-) -> Mask:
-    """255 where any channel of two BGR frames differs by more than `threshold`, else 0.
-
-    A per-channel test keeps chroma changes that a grey difference would hide (a blue shirt
-    over a green wall of the same brightness).
-
-    Args:
-        a: `(H, W, 3)` uint8 frame.
-        b: `(H, W, 3)` uint8 frame of the same size.
-        threshold: largest per-channel difference still counted as unchanged.
-        work: optional preallocated ((H, W, 3), (H, W, 3), (H, W)) uint8 scratch arrays.
-        out: optional preallocated `(H, W)` uint8 result.
-    """
-    if work is None:
-        diff, over, grey = (
-            np.empty_like(a),
-            np.empty_like(a),
-            np.empty(a.shape[:2], np.uint8),
-        )
-    else:
-        diff, over, grey = work
-    cv2.absdiff(a, b, dst=diff)
-    cv2.compare(diff, threshold, cv2.CMP_GT, dst=over)
-    cv2.cvtColor(over, cv2.COLOR_BGR2GRAY, dst=grey)  # nonzero iff some channel is 255
-    return cv2.compare(grey, 0, cv2.CMP_GT, dst=out) if out is not None else cv2.compare(grey, 0, cv2.CMP_GT)
 
 
 @dataclass(frozen=True)
@@ -178,26 +149,63 @@ def foreground_against(stack: npt.NDArray[np.uint8], plate: Frame, config: Featu
     return np.stack(masks) > 0
 
 
-def iterative_masked_median(samples: Sequence[Frame], config: FeatureConfig) -> Frame:
+def person_still_there(
+    stack: npt.NDArray[np.uint8], median: Frame, person: Mask, config: FeatureConfig
+) -> npt.NDArray[np.bool_]:
+    """Per sample, the pixels of the median's person that the sample still shows (dilated).
+
+    Where a sample differs from the median inside the person, the person moved away there (and
+    the sample may show the room behind): those pixels are left to the median.
+
+    Returns:
+        `(N, H, W)` bool.
+    """
+    kernel = square(config.bg_person_dilate)
+    masks = []
+    for sample in stack:
+        there = cv2.bitwise_and(person, cv2.bitwise_not(colour_change(sample, median, config.bg_person_match)))
+        masks.append(cv2.dilate(there, kernel) if kernel is not None else there)
+    return np.stack(masks) > 0
+
+
+def fill_unseen(plate: Frame, foreground: npt.NDArray[np.bool_], config: FeatureConfig) -> Frame:
+    """`plate` with the pixels that are foreground in every sample inpainted from around them."""
+    unseen = foreground.all(axis=0).astype(np.uint8)
+    if not unseen.any():
+        return plate
+    return cv2.inpaint(plate, unseen, config.bg_inpaint_radius, cv2.INPAINT_TELEA)
+
+
+def iterative_masked_median(samples: Sequence[Frame], config: FeatureConfig) -> tuple[Frame, bool]:
     """Temporal median with the person masked out.
 
-    Median, then `bg_iterations` rounds of marking each sample's foreground against the current
-    plate and taking the median of the rest.
+    Median; the person who stays put cut out of it (`bg_cut_person`); then `bg_iterations`
+    rounds of marking each sample's foreground against the current plate (and the cut-out
+    person where the sample still shows them) and taking the median of the rest. With a cut-out
+    person, pixels masked in every sample are inpainted.
+
+    Returns:
+        The plate and whether a person was cut out.
     """
     stack = np.stack(samples)
-    plate = np.median(stack, axis=0).astype(np.uint8)
+    median = np.median(stack, axis=0).astype(np.uint8)
+    person = person_in_median(median, samples, config) if config.bg_cut_person else None
+    if person is None:
+        plate = median
+        for _ in range(config.bg_iterations):
+            plate = masked_median(stack, foreground_against(stack, plate, config), plate)
+        return plate, False
+    still = person_still_there(stack, median, person, config)
+    plate = fill_unseen(masked_median(stack, still, median), still, config)
     for _ in range(config.bg_iterations):
-        plate = masked_median(stack, foreground_against(stack, plate, config), plate)
-    return plate
+        foreground = still | foreground_against(stack, plate, config)
+        plate = fill_unseen(masked_median(stack, foreground, plate), foreground, config)
+    return plate, True
 
 
 def shows_a_face(frames: Sequence[Frame], config: FeatureConfig) -> bool:
     """Whether any of `frames` holds a frontal face whose box is mostly skin (a person)."""
-    # Full size: at the tracker's downscale the cascade misses some faces of 50 px for the
-    # first frames; this runs on three frames once per video.
-    detect = FaceDetector(downscale=1.0)
-    # Faces in the dev set's frames are 72-98 % skin, false boxes on shelves and furniture 13-33 %.
-    return any(choose_face(detect(f), skin_mask(f, config), min_skin=0.5) is not None for f in frames)
+    return any(find_face(f, config) is not None for f in frames)
 
 
 def static_prefix(lead: Sequence[Frame], config: FeatureConfig) -> int:
@@ -219,7 +227,8 @@ def estimate_plate(lead: Sequence[Frame], samples: Sequence[Frame], config: Feat
         config: thresholds.
 
     Returns:
-        The plate and the method used ("lead-in median" or "masked median").
+        The plate and the method used ("lead-in median", "masked median, person cut out" or
+        "masked median").
     """
     if lead:
         n = static_prefix(lead, config)
@@ -230,7 +239,8 @@ def estimate_plate(lead: Sequence[Frame], samples: Sequence[Frame], config: Feat
             someone_enters = max(changed, default=0.0) > 0.01
             if someone_enters and not shows_a_face([lead[0], lead[n // 2], lead[n - 1]], config):
                 return plate, "lead-in median"
-    return iterative_masked_median(list(samples) + list(lead[:1]), config), "masked median"
+    plate, cut = iterative_masked_median(list(samples) + list(lead[:1]), config)
+    return plate, "masked median, person cut out" if cut else "masked median"
 
 
 def sample_video(path: str | os.PathLike[str], config: FeatureConfig) -> tuple[list[Frame], list[Frame], float]:
@@ -295,7 +305,7 @@ def estimate_background(
     warnings.warn(
         f"no clean plate given: the background was estimated from the video ({method}); "
         "a photo of the empty scene (--background) gives better silhouettes, "
-        "and an estimate keeps the parts of a person who hardly moves",
+        "and an estimate can only guess the room behind a person who hardly moves",
         CleanPlateWarning,
         stacklevel=2,
     )

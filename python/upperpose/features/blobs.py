@@ -39,19 +39,53 @@ class SkinBlob:
         return max(0.0, -cv2.pointPolygonTest(self.contour, (px, py), True))
 
 
-def find_skin_blobs(skin: Mask, edge: Mask, config: FeatureConfig) -> list[SkinBlob]:
+def stands_out_in_colour(pixels: Mask, origin: tuple[int, int], sub: Mask, config: FeatureConfig) -> bool:
+    """Whether a blob is a limb against the room by colour alone (when P_SB misses it).
+
+    True when at least `blob_min_changed` of its pixels are in I_sub and at least
+    `blob_min_room_outline` of a `blob_ring`-pixel ring around it is not: the blob differs from
+    the plate and its outline is the person's outline. A dark arm in front of a dark sofa has
+    hardly any grey-level edge but a clear colour change; a skin-coloured patch of clothing is
+    surrounded by more of the person (I_sub), a static object by no change at all.
+
+    Args:
+        pixels: `(h, w)` uint8 blob pixels inside its bounding box.
+        origin: (x, y) of the bounding box's top-left corner in the image.
+        sub: `(H, W)` uint8 I_sub.
+        config: thresholds.
+    """
+    x, y = origin
+    h, w = pixels.shape
+    area = cv2.countNonZero(pixels)
+    if cv2.countNonZero(cv2.bitwise_and(pixels, sub[y : y + h, x : x + w])) < config.blob_min_changed * area:
+        return False
+    r = config.blob_ring
+    height, width = sub.shape
+    x0, y0, x1, y1 = max(x - r, 0), max(y - r, 0), min(x + w + r, width), min(y + h + r, height)
+    grown = np.zeros((y1 - y0, x1 - x0), np.uint8)
+    grown[y - y0 : y - y0 + h, x - x0 : x - x0 + w] = pixels
+    inner = grown.copy()
+    cv2.dilate(grown, np.ones((2 * r + 1, 2 * r + 1), np.uint8), dst=grown)
+    ring = cv2.subtract(grown, inner)
+    room = cv2.countNonZero(cv2.bitwise_and(ring, cv2.bitwise_not(sub[y0:y1, x0:x1])))
+    return room >= config.blob_min_room_outline * max(cv2.countNonZero(ring), 1)
+
+
+def find_skin_blobs(skin: Mask, edge: Mask, config: FeatureConfig, sub: Mask | None = None) -> list[SkinBlob]:
     """The valid skin blobs of I_skin, largest first.
 
     A blob is an outer contour of `skin` filled (so that eyes and mouth do not split a face),
     intersected with `skin`. Blobs smaller than `blob_min_area` or with P_SB below
     `blob_min_gradient` are dropped: a static skin-coloured object that slipped through the
-    background test has hardly any edge change on it.
+    background test has hardly any edge change on it. With `sub` given, a blob below that
+    P_SB is kept when it stands out from the room in colour (`stands_out_in_colour`).
 
     Args:
         skin: `(H, W)` uint8 I_skin, nonzero = skin.
         edge: `(H, W)` uint8 I_edge, nonzero = edge (the extractor passes it dilated 3x3, so
             that the blob's outline edges, just outside its skin pixels, count).
         config: thresholds.
+        sub: `(H, W)` uint8 I_sub, or None for P_SB alone.
 
     Returns:
         Valid blobs sorted by area, largest first.
@@ -70,7 +104,9 @@ def find_skin_blobs(skin: Mask, edge: Mask, config: FeatureConfig) -> list[SkinB
             continue
         on_edge = cv2.countNonZero(cv2.bitwise_and(pixels, edge[y : y + h, x : x + w]))
         gradient = on_edge / area
-        if gradient < config.blob_min_gradient:
+        if gradient < config.blob_min_gradient and not (
+            sub is not None and stands_out_in_colour(pixels, (x, y), sub, config)
+        ):
             continue
         ys, xs = np.nonzero(pixels)
         xs = (xs + x).astype(np.int32)

@@ -11,6 +11,53 @@ SKIN_SPACES: tuple[str, ...] = ("rgb", "ycrcb", "hsv", "rgb+ycrcb")
 
 
 @dataclass(frozen=True)
+class PersonTemplate:
+    """Where a person stands relative to their face, for cutting them out of an estimated plate.
+
+    Units: `w` and `h` are the width and height of the detected face box `(x, y, w, h)`; heights
+    are measured down from the box's top edge, half widths from its centre line. The body model's
+    adult averages give a shoulder width of about two face widths. Three nested regions seed
+    GrabCut: sure person (face core, chest), probable person (head, neck, torso down to the image
+    bottom), probable background (a wider band around them, where arms and hair may be);
+    everything else is sure background.
+    """
+
+    head_centre: float = 0.45
+    """Head ellipse centre below the box top, in h."""
+
+    head_radii: tuple[float, float] = (0.7, 0.85)
+    """Probable person: head ellipse semi-axes (w, h) (the face box holds the face, not the hair)."""
+
+    neck: tuple[float, float, float] = (0.35, 0.9, 1.6)
+    """Probable person: neck rectangle (half width in w, top in h, bottom in h)."""
+
+    torso_top: float = 1.4
+    """Probable person: top of the torso trapezoid, in h."""
+
+    torso_half_widths: tuple[float, float] = (0.8, 0.7)
+    """Probable person: torso half width at its top and at the image bottom, in w (the body
+    model's torso is 0.32 m wide, a face box about 0.2 m). Arms hanging beside the torso are
+    left to the colour model, so that the room between arm and torso is not taken for the
+    person (1.0, 0.9 here: dev-set mean IoU 0.82 against 0.90)."""
+
+    reach_top: float = 0.9
+    """Probable background band: top of its trapezoid, in h."""
+
+    reach_head_radii: tuple[float, float] = (1.2, 1.4)
+    """Probable background band: ellipse semi-axes (w, h) around the head."""
+
+    reach_half_widths: tuple[float, float] = (1.8, 2.2)
+    """Probable background band: half width at its top and at the image bottom, in w (arms
+    hanging in the A-pose; a wider band lets GrabCut take more of the room beside the person)."""
+
+    sure_face: tuple[float, float, float, float] = (0.25, 0.25, 0.75, 0.8)
+    """Sure person: the face box's core (left, top, right, bottom as fractions of w and h)."""
+
+    sure_chest: tuple[float, float, float] = (0.45, 2.0, 3.2)
+    """Sure person: chest rectangle (half width in w, top in h, bottom in h)."""
+
+
+@dataclass(frozen=True)
 class FeatureConfig:
     """Thresholds and sizes of the image features; pixel values are 0..255 unless stated.
 
@@ -96,6 +143,19 @@ class FeatureConfig:
     object that slipped through has P_SB near 0. Twice the 0.03 used on the undilated I_edge:
     the dilation about doubles the width of an outline's edge band."""
 
+    blob_min_changed: float = 0.9
+    """Skin blobs: a blob below `blob_min_gradient` is kept when at least this share of it is
+    I_sub and its outline is the person's outline (`blob_min_room_outline`): a limb that
+    differs from the room in colour but hardly in grey level (a dark arm over a dark sofa;
+    features/blobs.py `stands_out_in_colour`). Above 1: never."""
+
+    blob_min_room_outline: float = 0.25
+    """Skin blobs: for that, at least this share of a `blob_ring`-pixel ring around the blob
+    must be outside I_sub (the room, not more of the person)."""
+
+    blob_ring: int = 2
+    """Skin blobs: width in pixels of the ring around a blob checked against I_sub."""
+
     hand_gate: float = 0.9
     """Hand and head matching: largest distance from the predicted joint to the nearest
     blob pixel, in units of the predicted shoulder width."""
@@ -170,6 +230,50 @@ class FeatureConfig:
     """Background estimation: a lead-in frame is static when at most this fraction of its
     pixels differ from the first frame (same measure and threshold as `bg_threshold`)."""
 
+    bg_face_min_skin: float = 0.5
+    """Background estimation: a face box counts as a person only when at least this share of it
+    is skin (faces in the dev set's frames are 72-98 % skin, false boxes on shelves and
+    furniture 13-33 %)."""
+
+    bg_face_samples: int = 8
+    """Background estimation: when the median image shows no face (the head moved too much),
+    faces are looked for in this many samples spread over the clip."""
+
+    bg_face_agreement: float = 0.25
+    """Background estimation: a sample's face anchors the person cut only when the median image
+    agrees with the sample on at least this share of the face box (the person stood there long
+    enough to be in the median; within `bg_person_match`)."""
+
+    bg_cut_person: bool = True
+    """Background estimation: cut the person who stays put out of the temporal median (found
+    from their face and segmented by GrabCut, `features/person_cut.py`) and fill the pixels no
+    sample shows uncovered by inpainting. False: the masked median alone, which keeps them."""
+
+    bg_person: PersonTemplate = PersonTemplate()
+    """Background estimation: the body region around the face that seeds the person cut."""
+
+    bg_grabcut_scale: float = 2.0
+    """Background estimation: the median image is shrunk by this factor for GrabCut (speed)."""
+
+    bg_grabcut_iterations: int = 5
+    """Background estimation: GrabCut iterations."""
+
+    bg_grabcut_runs: int = 5
+    """Background estimation: GrabCut runs, seeded 0, 1, ... (its k-means start is random);
+    a pixel is the person when most runs say so. The same video gives the same plate."""
+
+    bg_person_match: int = 25
+    """Background estimation: a sample pixel inside the cut-out person counts as the person when
+    it differs from the median by at most this in every channel (elsewhere the person moved)."""
+
+    bg_person_dilate: int = 7
+    """Background estimation: side of the dilation of the cut-out person in each sample (margin
+    for GrabCut's outline)."""
+
+    bg_inpaint_radius: int = 5
+    """Background estimation: radius of the inpainting (Telea) that fills the pixels no sample
+    shows without the person."""
+
     def __post_init__(self) -> None:
         if self.skin_space not in SKIN_SPACES:
             raise ValueError(f"skin_space must be one of {', '.join(SKIN_SPACES)}, got {self.skin_space!r}")
@@ -187,7 +291,12 @@ class FeatureConfig:
             "motion_dilate",
             "arm_torso_erode",
             "bg_mask_dilate",
+            "bg_person_dilate",
+            "bg_person_match",
         ):
+            if getattr(self, name) < 0:
+                raise ValueError(f"{name} must be >= 0, got {getattr(self, name)}")
+        for name in ("blob_ring",):
             if getattr(self, name) < 0:
                 raise ValueError(f"{name} must be >= 0, got {getattr(self, name)}")
         if self.edge_blur > 1 and self.edge_blur % 2 == 0:
@@ -209,6 +318,14 @@ class FeatureConfig:
             raise ValueError(f"exposure_tolerance must be >= 0, got {self.exposure_tolerance}")
         if self.exposure_step < 1:
             raise ValueError(f"exposure_step must be >= 1, got {self.exposure_step}")
+        for name in ("bg_face_min_skin", "bg_face_agreement"):
+            if not 0 <= getattr(self, name) <= 1:
+                raise ValueError(f"{name} must be within 0..1, got {getattr(self, name)}")
+        if not self.bg_grabcut_scale >= 1:
+            raise ValueError(f"bg_grabcut_scale must be >= 1, got {self.bg_grabcut_scale}")
+        for name in ("bg_grabcut_iterations", "bg_grabcut_runs", "bg_inpaint_radius", "bg_face_samples"):
+            if getattr(self, name) < 1:
+                raise ValueError(f"{name} must be >= 1, got {getattr(self, name)}")
         if self.bg_max_samples < 3:
             raise ValueError(f"bg_max_samples must be >= 3, got {self.bg_max_samples}")
 

@@ -8,8 +8,9 @@ import cv2
 import numpy as np
 import numpy.typing as npt
 
-from upperpose.features.background import Background, Int16Image, colour_change, square
+from upperpose.features.background import Background, Int16Image, square
 from upperpose.features.blobs import find_skin_blobs
+from upperpose.features.change import colour_change
 from upperpose.features.checks import Frame, Mask, check_frame, check_mask
 from upperpose.features.config import FeatureConfig
 from upperpose.features.exposure import GREY_WEIGHTS, ExposureMeter, needs_compensation
@@ -251,7 +252,7 @@ class FeatureExtractor:
         clock.lap("dilate")
         # P_SB counts edges within a pixel of the blob: its outline edges lie in a band that the
         # skin mask, shrunk by colour blending and its opening, often stops just short of.
-        blobs = find_skin_blobs(skin, edge_dilated, cfg)
+        blobs = find_skin_blobs(skin, edge_dilated, cfg, sub)
         clock.lap("blobs")
         head, right_hand, left_hand = locate_points(blobs, joints, cfg)
         clock.lap("points")

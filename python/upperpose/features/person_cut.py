@@ -1,0 +1,135 @@
+"""The person who stays put, cut out of a temporal median image (background estimation).
+
+A temporal median keeps whatever covers a pixel in most samples: the torso and head of a person
+who hardly moves. Their face is found (OpenCV's Haar cascade, boxes mostly skin) in the median
+image, or, when the head moved too much to leave a face there, in the sample frame that agrees
+most with the median inside its face box (the person's most frequent place), a body region
+is laid out around it in face units (`PersonTemplate`), and GrabCut separates the person from
+the room inside that region by colour. The result marks the pixels of the median image that
+show the person; `background.iterative_masked_median` masks them out of the samples where the
+person is still there and inpaints what no sample shows.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import cv2
+import numpy as np
+
+from upperpose.features.change import colour_change
+from upperpose.features.checks import Frame, Mask
+from upperpose.features.config import FeatureConfig, PersonTemplate
+from upperpose.features.faces import FaceBox, FaceDetector, choose_face
+from upperpose.features.skin import skin_mask
+
+
+def find_face(frame: Frame, config: FeatureConfig, detect: FaceDetector | None = None) -> FaceBox | None:
+    """The frontal face box `(x, y, w, h)` in `frame` that is most skin, or None.
+
+    Runs at full size: at the tracker's downscale the cascade misses some faces of 50 px.
+    """
+    detect = detect or FaceDetector(downscale=1.0)
+    return choose_face(detect(frame), skin_mask(frame, config), min_skin=config.bg_face_min_skin)
+
+
+def face_of_median(median: Frame, samples: Sequence[Frame], config: FeatureConfig) -> FaceBox | None:
+    """The face of the person the median image shows, or None.
+
+    The median's own face when the cascade finds one; else, of the faces in `bg_face_samples`
+    samples spread over the clip, the one whose box the median agrees with most (share of pixels
+    within `bg_person_match`), if at least `bg_face_agreement`.
+    """
+    detect = FaceDetector(downscale=1.0)
+    face = find_face(median, config, detect)
+    if face is not None or not samples:
+        return face
+    best, best_share = None, config.bg_face_agreement
+    picks = np.linspace(0, len(samples) - 1, min(config.bg_face_samples, len(samples))).round().astype(int)
+    for k in dict.fromkeys(picks.tolist()):
+        box = find_face(samples[k], config, detect)
+        if box is None:
+            continue
+        x, y, w, h = box
+        differs = colour_change(samples[k][y : y + h, x : x + w], median[y : y + h, x : x + w], config.bg_person_match)
+        share = 1.0 - cv2.countNonZero(differs) / max(differs.size, 1)
+        if share >= best_share:
+            best, best_share = box, share
+    return best
+
+
+def grabcut_seed(shape: tuple[int, int], face: FaceBox, template: PersonTemplate) -> Mask:
+    """GrabCut labels (`cv2.GC_*`) of an image of `shape` from a face box and the body template.
+
+    Returns:
+        `(H, W)` uint8: sure background, then the probable-background band, the probable person
+        and the sure person painted over each other.
+    """
+    height, _ = shape
+    x, y, w, h = face
+    cx = x + w / 2
+    seed = np.full(shape, cv2.GC_BGD, np.uint8)
+
+    def body(label: int, radii: tuple[float, float], top: float, half_widths: tuple[float, float]) -> None:
+        centre = (round(cx), round(y + template.head_centre * h))
+        cv2.ellipse(seed, centre, (round(radii[0] * w), round(radii[1] * h)), 0, 0, 360, label, -1)
+        t, b = half_widths[0] * w, half_widths[1] * w
+        corners = [(cx - t, y + top * h), (cx + t, y + top * h), (cx + b, height), (cx - b, height)]
+        cv2.fillPoly(seed, [np.round(corners).astype(np.int32)], label)
+
+    def rectangle(label: int, left: float, top: float, right: float, bottom: float) -> None:
+        cv2.rectangle(seed, (round(left), round(top)), (round(right), round(bottom)), label, -1)
+
+    body(cv2.GC_PR_BGD, template.reach_head_radii, template.reach_top, template.reach_half_widths)
+    body(cv2.GC_PR_FGD, template.head_radii, template.torso_top, template.torso_half_widths)
+    neck_half, neck_top, neck_bottom = template.neck
+    rectangle(cv2.GC_PR_FGD, cx - neck_half * w, y + neck_top * h, cx + neck_half * w, y + neck_bottom * h)
+    left, top, right, bottom = template.sure_face
+    rectangle(cv2.GC_FGD, x + left * w, y + top * h, x + right * w, y + bottom * h)
+    chest_half, chest_top, chest_bottom = template.sure_chest
+    if y + chest_top * h < height:  # a face low in the frame leaves no chest in view
+        rectangle(cv2.GC_FGD, cx - chest_half * w, y + chest_top * h, cx + chest_half * w, y + chest_bottom * h)
+    return seed
+
+
+def person_in_median(image: Frame, samples: Sequence[Frame], config: FeatureConfig) -> Mask | None:
+    """The pixels of `image` (a temporal median of `samples`) that show a person, or None.
+
+    Args:
+        image: `(H, W, 3)` uint8 BGR.
+        samples: the frames the median was taken over (for a face when the median has none).
+        config: face settings, body template, GrabCut scale and iterations.
+
+    Returns:
+        `(H, W)` uint8, 255 on the person; None when no face is found (nobody stays put).
+    """
+    face = face_of_median(image, samples, config)
+    if face is None:
+        return None
+    height, width = image.shape[:2]
+    seed = grabcut_seed((height, width), face, config.bg_person)
+    scale = config.bg_grabcut_scale
+    small_size = (max(1, round(width / scale)), max(1, round(height / scale)))
+    small = cv2.resize(image, small_size, interpolation=cv2.INTER_AREA)
+    labels = cv2.resize(seed, small_size, interpolation=cv2.INTER_NEAREST)
+    room = (labels == cv2.GC_BGD) | (labels == cv2.GC_PR_BGD)
+    if room.all() or not room.any():  # GrabCut needs both colour models
+        return None
+    # GrabCut seeds its colour models by k-means from OpenCV's per-thread random generator, and
+    # the cut moves with that seed (01: IoU 0.77-0.91 over three seeds): a pixel is the person
+    # when most of `bg_grabcut_runs` cuts from fixed seeds say so.
+    votes = np.zeros(labels.shape, np.int32)
+    for run in range(config.bg_grabcut_runs):
+        cv2.setRNGSeed(run)
+        cut = labels.copy()
+        background_model = np.zeros((1, 65), np.float64)
+        person_model = np.zeros((1, 65), np.float64)
+        cv2.grabCut(
+            small, cut, None, background_model, person_model, config.bg_grabcut_iterations, cv2.GC_INIT_WITH_MASK
+        )
+        votes += (cut == cv2.GC_FGD) | (cut == cv2.GC_PR_FGD)
+    person = np.where(2 * votes > config.bg_grabcut_runs, 255, 0).astype(np.uint8)
+    return cv2.resize(person, (width, height), interpolation=cv2.INTER_NEAREST)
+
+
+__all__ = ["face_of_median", "find_face", "grabcut_seed", "person_in_median"]
