@@ -144,6 +144,24 @@ def test_person_cut_finds_the_person_and_nothing_without_a_face(still_person) ->
     assert person_in_median(room, [room] * 3, FeatureConfig()) is None
 
 
+def test_person_cut_is_the_same_whatever_the_callers_random_state(still_person) -> None:
+    frames, _, _ = still_person
+    median = np.median(np.stack(frames), axis=0).astype(np.uint8)
+
+    def draw() -> np.ndarray:
+        return cv2.randu(np.zeros((1, 4)), 0.0, 1.0)
+
+    cuts = []
+    for seed in (3, 12345):
+        cv2.setRNGSeed(seed)
+        cuts.append(person_in_median(median, frames, FeatureConfig()))
+        after = draw()  # the caller's generator, untouched by the cut
+        cv2.setRNGSeed(seed)
+        np.testing.assert_array_equal(after, draw())
+    assert cuts[0] is not None and cuts[1] is not None
+    np.testing.assert_array_equal(cuts[0], cuts[1])
+
+
 def test_grabcut_seed_nests_its_regions() -> None:
     seed = grabcut_seed((480, 640), (300, 100, 50, 50), PersonTemplate())
     assert seed[125, 325] == cv2.GC_FGD  # face core
@@ -158,7 +176,14 @@ def test_grabcut_seed_nests_its_regions() -> None:
 
 @pytest.mark.parametrize(
     "field, value",
-    [("bg_grabcut_scale", 0.5), ("bg_grabcut_iterations", 0), ("bg_inpaint_radius", 0), ("bg_face_min_skin", 1.5)],
+    [
+        ("bg_grabcut_scale", 0.5),
+        ("bg_grabcut_iterations", 0),
+        ("bg_inpaint_radius", 0),
+        ("bg_face_min_skin", 1.5),
+        ("blob_min_changed", -0.1),
+        ("blob_ring", -1),
+    ],
 )
 def test_person_cut_settings_are_checked(field, value) -> None:
     with pytest.raises(ValueError, match=field):

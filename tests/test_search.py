@@ -145,9 +145,9 @@ def test_search_config_checks_and_reports_its_settings() -> None:
     assert c.weights["edge"] == 3.0 and c.weights["sil"] == upperpose.SearchConfig().weights["sil"]
     assert upperpose.SearchConfig(behind_weight=0.0, behind_margin=0.3).behind_margin == 0.3
     default = upperpose.SearchConfig()
-    assert (default.claim_other_arm, default.sil_by_part_area) == (True, True)
-    spec = upperpose.SearchConfig(claim_other_arm=False, sil_by_part_area=False)
-    assert (spec.claim_other_arm, spec.sil_by_part_area) == (False, False)
+    assert (default.mask_other_arm_edges, default.sil_by_part_area) == (True, True)
+    spec = upperpose.SearchConfig(mask_other_arm_edges=False, sil_by_part_area=False)
+    assert (spec.mask_other_arm_edges, spec.sil_by_part_area) == (False, False)
     for bad, message in [
         ({"particles": 0}, "particles must be >= 1"),
         ({"weights": {"elbow": 1.0}}, 'unknown weight "elbow"'),

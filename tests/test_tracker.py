@@ -177,9 +177,10 @@ def gt() -> dict:
 
 
 def test_search_options_reach_the_search_config() -> None:
-    config = TrackerConfig(particles=12, search_options={"claim_other_arm": False, "weights": {"edge": 1.0}})
+    config = TrackerConfig(particles=12, search_options={"mask_other_arm_edges": False, "weights": {"edge": 1.0}})
     search = config.search_config()
-    assert (search.particles, search.claim_other_arm, search.weights["edge"]) == (12, False, 1.0)
+    assert (search.particles, search.mask_other_arm_edges, search.weights["edge"]) == (12, False, 1.0)
+    assert TrackerConfig(seed=1, search_options={"seed": 3}).search_config().seed == 3
     with pytest.raises(TypeError, match="passes"):
         TrackerConfig(search_options={"passes": 1}).search_config()
 

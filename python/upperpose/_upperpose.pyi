@@ -147,7 +147,7 @@ class SearchConfig:
         sigma: float | None = None,
         behind_weight: float | None = None,
         behind_margin: float | None = None,
-        claim_other_arm: bool = True,
+        mask_other_arm_edges: bool = True,
         sil_by_part_area: bool = True,
     ) -> Self: ...
     @property
@@ -177,7 +177,7 @@ class SearchConfig:
     @property
     def behind_margin(self) -> float: ...
     @property
-    def claim_other_arm(self) -> bool: ...
+    def mask_other_arm_edges(self) -> bool: ...
     @property
     def sil_by_part_area(self) -> bool: ...
     @property

@@ -26,6 +26,7 @@ from upperpose.exceptions import VideoError
 from upperpose.features.change import colour_change
 from upperpose.features.checks import Frame, Mask, check_frame
 from upperpose.features.config import FeatureConfig
+from upperpose.features.faces import FaceDetector
 from upperpose.features.person_cut import find_face, person_in_median
 from upperpose.features.skin import skin_mask
 
@@ -205,7 +206,8 @@ def iterative_masked_median(samples: Sequence[Frame], config: FeatureConfig) -> 
 
 def shows_a_face(frames: Sequence[Frame], config: FeatureConfig) -> bool:
     """Whether any of `frames` holds a frontal face whose box is mostly skin (a person)."""
-    return any(find_face(f, config) is not None for f in frames)
+    detect = FaceDetector(downscale=1.0)
+    return any(find_face(f, config, detect) is not None for f in frames)
 
 
 def static_prefix(lead: Sequence[Frame], config: FeatureConfig) -> int:

@@ -293,10 +293,10 @@ class FeatureConfig:
             "bg_mask_dilate",
             "bg_person_dilate",
             "bg_person_match",
+            "blob_ring",
+            "blob_min_changed",
+            "blob_min_room_outline",
         ):
-            if getattr(self, name) < 0:
-                raise ValueError(f"{name} must be >= 0, got {getattr(self, name)}")
-        for name in ("blob_ring",):
             if getattr(self, name) < 0:
                 raise ValueError(f"{name} must be >= 0, got {getattr(self, name)}")
         if self.edge_blur > 1 and self.edge_blur % 2 == 0:

@@ -13,9 +13,11 @@ person is still there and inpaints what no sample shows.
 from __future__ import annotations
 
 from collections.abc import Sequence
+from concurrent.futures import ThreadPoolExecutor
 
 import cv2
 import numpy as np
+import numpy.typing as npt
 
 from upperpose.features.change import colour_change
 from upperpose.features.checks import Frame, Mask
@@ -92,6 +94,21 @@ def grabcut_seed(shape: tuple[int, int], face: FaceBox, template: PersonTemplate
     return seed
 
 
+def _grabcut_votes(small: Frame, labels: Mask, config: FeatureConfig) -> npt.NDArray[np.int32]:
+    """How many of `config.bg_grabcut_runs` GrabCuts from fixed seeds call each pixel the person."""
+    votes = np.zeros(labels.shape, np.int32)
+    for run in range(config.bg_grabcut_runs):
+        cv2.setRNGSeed(run)
+        cut = labels.copy()
+        background_model = np.zeros((1, 65), np.float64)
+        person_model = np.zeros((1, 65), np.float64)
+        cv2.grabCut(
+            small, cut, None, background_model, person_model, config.bg_grabcut_iterations, cv2.GC_INIT_WITH_MASK
+        )
+        votes += (cut == cv2.GC_FGD) | (cut == cv2.GC_PR_FGD)
+    return votes
+
+
 def person_in_median(image: Frame, samples: Sequence[Frame], config: FeatureConfig) -> Mask | None:
     """The pixels of `image` (a temporal median of `samples`) that show a person, or None.
 
@@ -117,17 +134,13 @@ def person_in_median(image: Frame, samples: Sequence[Frame], config: FeatureConf
         return None
     # GrabCut seeds its colour models by k-means from OpenCV's per-thread random generator, and
     # the cut moves with that seed (01: IoU 0.77-0.91 over three seeds): a pixel is the person
-    # when most of `bg_grabcut_runs` cuts from fixed seeds say so.
-    votes = np.zeros(labels.shape, np.int32)
-    for run in range(config.bg_grabcut_runs):
-        cv2.setRNGSeed(run)
-        cut = labels.copy()
-        background_model = np.zeros((1, 65), np.float64)
-        person_model = np.zeros((1, 65), np.float64)
-        cv2.grabCut(
-            small, cut, None, background_model, person_model, config.bg_grabcut_iterations, cv2.GC_INIT_WITH_MASK
-        )
-        votes += (cut == cv2.GC_FGD) | (cut == cv2.GC_PR_FGD)
+    # when most of `bg_grabcut_runs` cuts from fixed seeds say so. The cuts run in a thread of
+    # their own, so that seeding its generator leaves the caller's alone.
+    with ThreadPoolExecutor(1) as pool:
+        try:
+            votes = pool.submit(_grabcut_votes, small, labels, config).result()
+        except cv2.error:  # too few pixels for one of GrabCut's colour models
+            return None
     person = np.where(2 * votes > config.bg_grabcut_runs, 255, 0).astype(np.uint8)
     return cv2.resize(person, (width, height), interpolation=cv2.INTER_NEAREST)
 

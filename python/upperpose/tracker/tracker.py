@@ -102,8 +102,8 @@ class TrackerConfig:
         root_window: half-width in metres of the torso stage's search over the root's X and Y
             around the estimate of `RootEstimator` (also used after start-up and losses).
         search: a ready `upperpose.SearchConfig`; overrides the fields above.
-        search_options: further keyword arguments of `upperpose.SearchConfig` (for example
-            `{"weights": {"edge": 1.0}, "arm_passes": 1}`), when `search` is None.
+        search_options: keyword arguments of `upperpose.SearchConfig` that override the fields
+            above (for example `{"weights": {"edge": 1.0}, "seed": 3}`), when `search` is None.
         features: feature thresholds; the background's when None.
         skip_static: search only the parts whose motion flag is set (§3.4.3); False searches
             every part every frame.
@@ -134,8 +134,8 @@ class TrackerConfig:
             frame-to-frame change (largest angle change, in units of 0.15 rad at 30 fps), so
             that a fast wave does not outrun them.
         fair_recovery: a lost arm's full-range fit replaces the trajectory fit only when it
-            costs less in the same image regions (the full-range search's regions are larger,
-            which lowers its normalised cost for the same fit).
+            costs less in the same image regions (a stage's cost depends on its region: the
+            Sil term counts every mismatch inside it, and the full-range regions are larger).
     """
 
     particles: int | None = None
@@ -179,15 +179,15 @@ class TrackerConfig:
             "threads": self.threads,
             "sigma": self.sigma,
         }
-        kwargs = {k: v for k, v in given.items() if v is not None}
-        return SearchConfig(
-            seed=self.seed,
-            limits=self.limits,
-            optimizer=self.optimizer,
-            root_window=self.root_window,
-            initial_root_window=self.root_window,
-            **{**kwargs, **self.search_options},
-        )
+        kwargs = {
+            "seed": self.seed,
+            "limits": self.limits,
+            "optimizer": self.optimizer,
+            "root_window": self.root_window,
+            "initial_root_window": self.root_window,
+            **{k: v for k, v in given.items() if v is not None},
+        }
+        return SearchConfig(**{**kwargs, **self.search_options})
 
 
 @dataclass(frozen=True)
@@ -495,9 +495,9 @@ class Tracker:
             wide = self._fit(
                 features, np.asarray(fit.pose), np.asarray(fit.root), "initial", tuple(lost), index, interval
             )
-            # Costs are normalised by each stage's region, and the wide search's regions are
-            # larger (everything the arm can reach), so its raw cost is lower for the same
-            # fit. Score the trajectory fit in the same regions before comparing.
+            # A stage's cost depends on its region (Sil counts every mismatch inside it, Ratio
+            # the silhouette there), and the wide search's regions are larger (everything the
+            # arm can reach). Score the trajectory fit in the same regions before comparing.
             if self.config.fair_recovery:
                 same = self._fit(features, np.asarray(fit.pose), np.asarray(fit.root), "initial", (), index, interval)
                 narrow_cost = float(same.cost)

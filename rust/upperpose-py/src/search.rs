@@ -49,9 +49,11 @@ fn terms_values(t: &CostTerms) -> [f64; 6] {
 ///     behind_weight: weight of the prior against a hand behind the body (per arm length
 ///         behind the shoulder beyond `behind_margin`); 0 turns it off.
 ///     behind_margin: arm lengths a hand may lie behind the shoulder for free.
-///     claim_other_arm: an arm's Edge and Motion terms ignore pixels under the other arm.
+///     mask_other_arm_edges: an arm's Edge and Motion get no credit for pixels under the other
+///         arm (docs/cost.md).
 ///     sil_by_part_area: divide the Sil and Arm mismatch by the part's nominal area instead of
-///         its region's area.
+///         its region's area (docs/cost.md); with False, SPEC 5's normalisation, also pass
+///         weights={"sil": 20}.
 #[pyclass(frozen, name = "SearchConfig", module = "upperpose._upperpose")]
 #[derive(Clone)]
 pub struct PySearchConfig {
@@ -66,7 +68,7 @@ impl PySearchConfig {
                         weights = None, limits = "anatomical", non_penetration = true, threads = None, seed = 0,
                         root_window = None, initial_root_window = None, row_steps = None, optimizer = "apso",
                         sigma = None, behind_weight = None, behind_margin = None,
-                        claim_other_arm = true, sil_by_part_area = true))]
+                        mask_other_arm_edges = true, sil_by_part_area = true))]
     #[allow(clippy::too_many_arguments)] // one keyword argument per setting
     fn new(
         particles: Option<usize>,
@@ -86,7 +88,7 @@ impl PySearchConfig {
         sigma: Option<f64>,
         behind_weight: Option<f64>,
         behind_margin: Option<f64>,
-        claim_other_arm: bool,
+        mask_other_arm_edges: bool,
         sil_by_part_area: bool,
     ) -> PyResult<Self> {
         let mut c = SearchConfig::default();
@@ -149,7 +151,7 @@ impl PySearchConfig {
             }
         };
         c.non_penetration = non_penetration;
-        c.claim_other_arm = claim_other_arm;
+        c.mask_other_arm_edges = mask_other_arm_edges;
         c.sil_by_part_area = sil_by_part_area;
         if threads == Some(0) {
             return Err(PyValueError::new_err("threads must be >= 1, got 0"));
@@ -253,8 +255,8 @@ impl PySearchConfig {
         self.inner.behind_margin
     }
     #[getter]
-    fn claim_other_arm(&self) -> bool {
-        self.inner.claim_other_arm
+    fn mask_other_arm_edges(&self) -> bool {
+        self.inner.mask_other_arm_edges
     }
     #[getter]
     fn sil_by_part_area(&self) -> bool {

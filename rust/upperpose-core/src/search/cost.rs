@@ -15,6 +15,7 @@
 use crate::image::FrameView;
 use crate::raster::{BitMask, Roi, RowSpans, Scanner, Span};
 use nalgebra::Vector2;
+use std::borrow::Cow;
 
 /// Weights of the six terms (thesis: 3, 20, 15, 250, 4, 400 for its own normalisations).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -46,7 +47,7 @@ impl Default for CostWeights {
 /// The six terms for one part, each normalised (ranges in docs/cost.md).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct CostTerms {
-    /// `|sil ^ model| / |R|`, in [0, 1].
+    /// `|sil ^ model| / A` (A: the part's nominal area, or `|R|`; docs/cost.md), in [0, |R| / A].
     pub sil: f64,
     /// Share of the part's contour on (dilated) edge pixels, in [0, 1].
     pub edge: f64,
@@ -54,7 +55,7 @@ pub struct CostTerms {
     pub motion: f64,
     /// Summed distance of matched skin points to their joints / shoulder width, >= 0.
     pub skin: f64,
-    /// `|arm_sil ^ (part & !torso)| / |R|` for arms (0 for the torso), in [0, 1].
+    /// `|arm_sil ^ (part & !torso)| / A` for arms (0 for the torso), in [0, |R| / A].
     pub arm: f64,
     /// `| |model & R| / |sil & R| - 1 |`, >= 0.
     pub ratio: f64,
@@ -271,10 +272,11 @@ impl StageRegion {
     /// stages whose Arm term is weighed) a full-frame mask of the fitted torso, neck and head.
     /// Candidates are counted on rows that are multiples of `row_step` (see [`evaluate`]) and
     /// only inside `reach`, the part of `roi` they can cover: the running counts are built there.
-    /// Edge and motion pixels under `claimed` (the other arm) do not count for the candidate:
-    /// an arm laid over the other arm would otherwise collect that arm's contour for free.
-    pub fn new(
-        frame: &FrameView,
+    /// Edge and motion pixels under `claimed` (the other arm) do not count for the candidate,
+    /// while its contour there still counts in the shares' denominators: an arm laid over the
+    /// other arm would otherwise collect that arm's contour for free.
+    pub fn new<'a>(
+        frame: &FrameView<'a>,
         roi: Roi,
         reach: Roi,
         row_step: i32,
@@ -286,10 +288,10 @@ impl StageRegion {
         let stride = r.stride;
         let sil = frame.sil.words;
         let zip = |f: &dyn Fn(usize) -> u64| -> Vec<u64> { (0..r.words.len()).map(f).collect() };
-        let unclaimed = |plane: &[u64]| -> Vec<u64> {
+        let unclaimed = |plane: &'a [u64]| -> Cow<'a, [u64]> {
             match claimed {
-                Some(c) => zip(&|i| plane[i] & !c.words[i]),
-                None => plane.to_vec(),
+                Some(c) => Cow::Owned(zip(&|i| plane[i] & !c.words[i])),
+                None => Cow::Borrowed(plane),
             }
         };
         let (edge, motion) = (unclaimed(frame.edge.words), unclaimed(frame.motion.words));
@@ -336,7 +338,7 @@ impl StageRegion {
     }
 }
 
-/// Most pieces a candidate part has (the torso stage's torso, neck and head).
+/// Most pieces a candidate part has (the torso stage has three: torso, neck and head).
 const MAX_PIECES: usize = 4;
 
 /// Pixel counts over the union of a candidate's pieces, summed with signs (inclusion-exclusion).

@@ -77,6 +77,14 @@ impl Stage {
         }
     }
 
+    fn other_arm(self) -> Option<Stage> {
+        match self {
+            Stage::Torso => None,
+            Stage::RightArm => Some(Stage::LeftArm),
+            Stage::LeftArm => Some(Stage::RightArm),
+        }
+    }
+
     fn side(self) -> Option<Side> {
         match self {
             Stage::Torso => None,
@@ -118,11 +126,13 @@ pub struct SearchConfig {
     /// Arm lengths a hand may lie behind the shoulder for free (an arm swinging while
     /// walking goes about 0.3 behind).
     pub behind_margin: f64,
-    /// An arm's Edge and Motion terms ignore pixels under the other arm (as fitted or
-    /// predicted): otherwise an arm laid over the other one collects its contour for free.
-    pub claim_other_arm: bool,
+    /// An arm's Edge and Motion terms get no credit for feature pixels under the other arm (as
+    /// fitted or predicted): otherwise an arm laid over the other one collects that arm's
+    /// contour for free (docs/cost.md).
+    pub mask_other_arm_edges: bool,
     /// Divide the Sil (and Arm) mismatch by the stage's nominal part area rather than by its
-    /// region's area (docs/cost.md).
+    /// region's area (docs/cost.md). The default weights are for `true`; SPEC 5's `false`
+    /// wants `weights.sil` 20.
     pub sil_by_part_area: bool,
 }
 
@@ -142,7 +152,7 @@ impl Default for SearchConfig {
             sigma: 1.0,
             behind_weight: 2.0,
             behind_margin: 0.2,
-            claim_other_arm: true,
+            mask_other_arm_edges: true,
             sil_by_part_area: true,
         }
     }
@@ -489,21 +499,19 @@ fn run_stage(
     } else {
         part_box(stage, req, &skel, roi).unwrap_or(roi)
     };
-    let other_arm = match stage {
-        Stage::Torso => None,
-        Stage::RightArm => Some(Stage::LeftArm),
-        Stage::LeftArm => Some(Stage::RightArm),
-    };
-    let claimed = other_arm.filter(|_| config.claim_other_arm).map(|other| {
-        mask_of(
-            other.parts(),
-            &skel,
-            b,
-            &req.camera,
-            req.frame.width,
-            req.frame.height,
-        )
-    });
+    let claimed = stage
+        .other_arm()
+        .filter(|_| config.mask_other_arm_edges)
+        .map(|other| {
+            mask_of(
+                other.parts(),
+                &skel,
+                b,
+                &req.camera,
+                req.frame.width,
+                req.frame.height,
+            )
+        });
     let step = config.row_steps[stage as usize];
     let mut region = StageRegion::new(
         &req.frame,
