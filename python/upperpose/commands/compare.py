@@ -28,7 +28,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     )
     p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     p.add_argument(
-        "--threads", type=int, default=None, help="search threads per run (default: 1 with --jobs > 1, else all)"
+        "--threads",
+        type=int,
+        default=None,
+        help="search threads per run (default: 1 with --jobs > 1, else the search's default)",
     )
     p.add_argument("--quiet", action="store_true", help="no progress lines")
 

@@ -19,7 +19,10 @@ def add_search_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--particles", type=int, default=None, help="particles per search stage (default: the search's)")
     p.add_argument("--iterations", type=int, default=None, help="swarm iterations per stage (default: the search's)")
     p.add_argument(
-        "--threads", type=int, default=None, help="worker threads (default: UPPERPOSE_NUM_THREADS or all cores)"
+        "--threads",
+        type=int,
+        default=None,
+        help="worker threads (default: UPPERPOSE_NUM_THREADS, else one per 64 particles, at most one per core)",
     )
     p.add_argument("--seed", type=int, default=0, help="random seed (default 0): the same seed gives the same poses")
     p.add_argument(

@@ -9,8 +9,15 @@ use std::sync::{Arc, Mutex, OnceLock};
 /// Environment variable giving the default thread count.
 pub const THREADS_ENV: &str = "UPPERPOSE_NUM_THREADS";
 
-/// The thread count to use: `requested`, else `UPPERPOSE_NUM_THREADS`, else the number of cores.
-pub fn resolve_threads(requested: Option<usize>) -> Result<usize> {
+/// Particles per worker thread by default. Handing a swarm iteration to the pool and waiting
+/// for it costs thread wake-ups, which outweigh the split below about this many particles
+/// (2-core machine, dev-set clip 01, every part searched: search per frame 1.8 ms on one thread
+/// against 3.2 on two at 24 particles, 3.3 against 4.5 at 48, 6.5 against 5.2 at 96).
+pub const PARTICLES_PER_THREAD: usize = 64;
+
+/// The thread count to use: `requested`, else `UPPERPOSE_NUM_THREADS`, else one thread per
+/// [`PARTICLES_PER_THREAD`] particles, at most one per core.
+pub fn resolve_threads(requested: Option<usize>, particles: usize) -> Result<usize> {
     if let Some(n) = requested {
         if n == 0 {
             return Err(CoreError::OutOfRange {
@@ -31,9 +38,10 @@ pub fn resolve_threads(requested: Option<usize>) -> Result<usize> {
             }),
         };
     }
-    Ok(std::thread::available_parallelism()
+    let cores = std::thread::available_parallelism()
         .map(usize::from)
-        .unwrap_or(1))
+        .unwrap_or(1);
+    Ok(particles.div_ceil(PARTICLES_PER_THREAD).clamp(1, cores))
 }
 
 /// The shared pool with `threads` workers.
@@ -57,4 +65,23 @@ pub fn pool(threads: usize) -> Result<Arc<ThreadPool>> {
     let p = Arc::new(built);
     map.insert(threads, Arc::clone(&p));
     Ok(p)
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)] // test code may fail loudly
+    use super::*;
+
+    #[test]
+    fn threads_follow_the_request_else_the_swarm_size_up_to_the_cores() {
+        assert_eq!(resolve_threads(Some(3), 24).unwrap(), 3);
+        assert!(resolve_threads(Some(0), 24).is_err());
+        if std::env::var(THREADS_ENV).is_err() {
+            let cores = std::thread::available_parallelism().unwrap().get();
+            assert_eq!(resolve_threads(None, 24).unwrap(), 1);
+            assert_eq!(resolve_threads(None, 64).unwrap(), 1);
+            assert_eq!(resolve_threads(None, 65).unwrap(), 2.min(cores));
+            assert_eq!(resolve_threads(None, 64 * 1000).unwrap(), cores);
+        }
+    }
 }

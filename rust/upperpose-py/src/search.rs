@@ -36,7 +36,9 @@ fn terms_values(t: &CostTerms) -> [f64; 6] {
 ///     weights: dict overriding some of the six cost weights (sil, edge, motion, skin, arm, ratio).
 ///     limits: "anatomical" (default) or "thesis" (Table 3.5-1).
 ///     non_penetration: reject arms passing through the torso or each other.
-///     threads: worker threads; None uses UPPERPOSE_NUM_THREADS, else every core.
+///     threads: worker threads; None uses UPPERPOSE_NUM_THREADS, else one per 64 particles (at
+///         most one per core; one at the default 24, where handing work to other threads costs
+///         more than it saves).
 ///     seed: random seed; the same seed gives the same fit whatever the thread count.
 ///     root_window: half-width (metres) of the torso stage's search over the root's X and Y;
 ///         0 (the default) keeps the root given.

@@ -612,7 +612,8 @@ fn check(req: &FrameRequest) -> Result<()> {
 /// Fits one frame: torso, right arm, left arm.
 pub fn fit_frame(req: &FrameRequest, config: &SearchConfig) -> Result<FrameFit> {
     check(req)?;
-    let pool = parallel::pool(parallel::resolve_threads(config.threads)?)?;
+    let threads = parallel::resolve_threads(config.threads, config.swarm.particles)?;
+    let pool = parallel::pool(threads)?;
     let config = &*optimizer::effective(config);
     let mut pose = config.limits.clamp(&req.prediction);
     // y_down is not searched; keep the prediction's value even outside the limits' clamp.
