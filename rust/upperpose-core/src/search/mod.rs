@@ -469,49 +469,40 @@ fn run_stage(
     let Some(roi) = stage_roi(stage, req, &skel, &half) else {
         return (CostTerms::default(), 0); // the part is out of the image: keep it as predicted
     };
-    let others: Vec<Part> = Part::ALL
-        .iter()
-        .copied()
-        .filter(|p| !stage.parts().contains(p))
-        .collect();
-    let base = mask_of(
-        &others,
-        &skel,
-        b,
-        &req.camera,
-        req.frame.width,
-        req.frame.height,
-    );
-    // The Arm term is only counted when it is weighed.
-    let torso = (stage.side().is_some() && config.weights.arm != 0.0).then(|| {
+    let draw = |parts: &[Part]| {
         mask_of(
-            Stage::Torso.parts(),
+            parts,
             &skel,
             b,
             &req.camera,
             req.frame.width,
             req.frame.height,
         )
-    });
+    };
+    // The other arm is drawn once: it is part of the base and, for the edge mask, on its own.
+    let claimed_parts = match stage.other_arm() {
+        Some(other) if config.mask_other_arm_edges => other.parts(),
+        _ => &[],
+    };
+    let claimed = (!claimed_parts.is_empty()).then(|| draw(claimed_parts));
+    let rest: Vec<Part> = Part::ALL
+        .iter()
+        .copied()
+        .filter(|p| !stage.parts().contains(p) && !claimed_parts.contains(p))
+        .collect();
+    let mut base = draw(&rest);
+    if let Some(arm) = &claimed {
+        base.union(arm);
+    }
+    // The Arm term is only counted when it is weighed.
+    let torso =
+        (stage.side().is_some() && config.weights.arm != 0.0).then(|| draw(Stage::Torso.parts()));
     // A stage that is not searched is scored once, where it stands: count only around that.
     let reach = if req.search[stage as usize] {
         roi
     } else {
         part_box(stage, req, &skel, roi).unwrap_or(roi)
     };
-    let claimed = stage
-        .other_arm()
-        .filter(|_| config.mask_other_arm_edges)
-        .map(|other| {
-            mask_of(
-                other.parts(),
-                &skel,
-                b,
-                &req.camera,
-                req.frame.width,
-                req.frame.height,
-            )
-        });
     let step = config.row_steps[stage as usize];
     let mut region = StageRegion::new(
         &req.frame,
