@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from types import SimpleNamespace
+
 import cv2
 import numpy as np
 import pytest
@@ -9,8 +11,10 @@ import pytest
 import upperpose
 from tracker_helpers import TruthFitter, camera_of, clip, truth
 from upperpose.features.packing import pack_rows
+from upperpose.features.points import SkinPoint
 from upperpose.tracker import INITIALISING, LOST, NO_PERSON, TRACKED, StateMachine, StaticFit, Tracker, TrackerConfig
 from upperpose.tracker.recovery import HandFollower, LostDetector, unexplained_by_side
+from upperpose.tracker.root import RootEstimator
 from upperpose.tracker.startup import check_apose, depth_from_face, fit_widths, root_from_head
 from upperpose.tracker.video import VideoReader
 
@@ -68,6 +72,63 @@ def test_root_from_head_reprojects_the_head() -> None:
     np.testing.assert_allclose(head, [300.0, 150.0], atol=1e-6)
     # Twice the face width in pixels means half the depth.
     assert depth_from_face(camera, 100.0) == pytest.approx(2 * depth_from_face(camera, 200.0))
+
+
+class _HeadOnly:
+    """The two things RootEstimator reads of FrameFeatures: the head point and its blob's box."""
+
+    def __init__(self, xy: tuple[float, float], size: tuple[int, int]) -> None:
+        self.head = SkinPoint(xy, merged=False, blob=0)
+        self.blobs = [SimpleNamespace(bbox=(int(xy[0] - size[0] / 2), int(xy[1] - size[1] / 2), *size))]
+
+
+def _root_estimator() -> tuple[RootEstimator, upperpose.Camera, upperpose.BodyModel, np.ndarray]:
+    camera = upperpose.Camera.for_image(640, 480)
+    body = upperpose.BodyModel()
+    pose = upperpose.Pose().angles
+    root = root_from_head(camera, [320.0, 150.0], 2.0, pose, body)
+    # Head 50 px wide at start-up; the head blob's width is that of the face box.
+    return RootEstimator(camera, body, root, 50.0, head_size_px=50.0), camera, body, pose
+
+
+def _head_px(estimator: RootEstimator, camera: upperpose.Camera, body: upperpose.BodyModel, pose: np.ndarray) -> float:
+    return float(upperpose.project(camera, upperpose.forward_kinematics(pose, estimator.root, body))[0][0])
+
+
+def test_root_follows_a_steady_sideways_walk() -> None:
+    estimator, camera, body, pose = _root_estimator()
+    fitted = None
+    for k in range(1, 31):  # 20 px a frame: 0.4 head widths, a brisk walk at 2 m
+        fitted = estimator.update(_HeadOnly((320.0 + 20.0 * k, 150.0), (50, 60)), pose, fitted)
+    # The half-and-half blend with the fit lags a steady motion by one step (20 px).
+    assert abs(_head_px(estimator, camera, body, pose) - (320.0 + 20.0 * 30)) <= 21.0
+
+
+def test_root_ignores_a_head_point_that_jumps_for_a_frame_or_two() -> None:
+    estimator, camera, body, pose = _root_estimator()
+    fitted = None
+    for _ in range(3):  # tracking, with a velocity (zero)
+        fitted = estimator.update(_HeadOnly((320.0, 150.0), (50, 60)), pose, fitted)
+    for _ in range(2):  # a hand's blob taken for the head, 100 px (two head widths) below it
+        fitted = estimator.update(_HeadOnly((320.0, 250.0), (45, 45)), pose, fitted)
+        np.testing.assert_allclose(fitted[:2], estimator.root[:2])
+        assert abs(upperpose.project(camera, upperpose.forward_kinematics(pose, fitted, body))[0][1] - 150.0) < 0.5
+    # A third measurement in a row that agrees with the last two is believed: the person moved.
+    fitted = estimator.update(_HeadOnly((320.0, 252.0), (45, 45)), pose, fitted)
+    head_y = upperpose.project(camera, upperpose.forward_kinematics(pose, fitted, body))[0][1]
+    assert head_y == pytest.approx(150.0 + 0.5 * 102.0, abs=0.5)
+
+
+def test_root_ignores_a_scrap_of_skin_taken_for_the_head() -> None:
+    estimator, camera, body, pose = _root_estimator()
+    fitted = None
+    for _ in range(3):
+        fitted = estimator.update(_HeadOnly((320.0, 150.0), (50, 60)), pose, fitted)
+    for _ in range(5):  # a 10 x 8 px blob (under half a head) 30 px below the head, frame after frame
+        fitted = estimator.update(_HeadOnly((320.0, 180.0), (10, 8)), pose, fitted)
+    assert _head_px(estimator, camera, body, pose) == pytest.approx(320.0, abs=0.5)
+    head_y = upperpose.project(camera, upperpose.forward_kinematics(pose, fitted, body))[0][1]
+    assert head_y == pytest.approx(150.0, abs=0.5)
 
 
 def test_lost_detector_counts_misses_and_pauses_without_evidence() -> None:

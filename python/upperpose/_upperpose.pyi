@@ -147,6 +147,7 @@ class SearchConfig:
         sigma: float | None = None,
         behind_weight: float | None = None,
         behind_margin: float | None = None,
+        turn_weight: float | None = None,
         mask_other_arm_edges: bool = True,
         sil_by_part_area: bool = True,
     ) -> Self: ...
@@ -176,6 +177,8 @@ class SearchConfig:
     def behind_weight(self) -> float: ...
     @property
     def behind_margin(self) -> float: ...
+    @property
+    def turn_weight(self) -> float: ...
     @property
     def mask_other_arm_edges(self) -> bool: ...
     @property

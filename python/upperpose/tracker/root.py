@@ -5,10 +5,14 @@ known from the face box: Z = Z0 * w0 / w. A subject who steps closer therefore c
 never body size. Measurements are rejected when the head blob is merged with a hand or its
 width jumps by more than `max_jump`; accepted ones pass a median of the last five and an
 exponential filter. X and Y: the head point (only when its blob is about a head's size: a
-hand on the head that the matching did not see would drag it) back-projected at that depth, minus the head's
+hand on the head that the matching did not see would drag it, and a scrap of skin taken for the
+head while a hand covers the face would drop it) back-projected at that depth, minus the head's
 offset from the root at the predicted pose, blended with last frame's fitted root (whose x, y
-the torso search refines). Frames without a usable head point blend with the last measurement
-instead, so that the search cannot walk the body away frame after frame.
+the torso search refines). A measurement farther from last frame's root (moved on at its
+velocity) than a head moves in one frame is held back, and does not move the depth either,
+until a few in a row agree with each other (then the person did move). Frames without a usable
+head point blend with the last measurement instead, so that the search cannot walk the body away
+frame after frame.
 """
 
 from __future__ import annotations
@@ -37,6 +41,13 @@ class RootEstimator:
         depth_gain: weight of a new depth measurement (exponential filter).
         xy_gain: weight of the head measurement against last frame's fitted root.
         max_jump: largest accepted relative change of the head blob's width in one frame.
+        min_head_share: smallest head blob accepted, as a share of the expected head size in
+            width and in height.
+        xy_gate: largest accepted distance of the measured root from the one expected at last
+            frame's velocity, in head widths (a head moving 2 m/s at 2 m and 30 fps moves about
+            0.4 of its width a frame).
+        confirm_jumps: measurements in a row, each within `xy_gate` of the one before, after
+            which they are accepted however far from the expected root.
     """
 
     def __init__(
@@ -50,6 +61,9 @@ class RootEstimator:
         depth_gain: float = 0.15,
         xy_gain: float = 0.5,
         max_jump: float = 0.25,
+        min_head_share: float = 0.5,
+        xy_gate: float = 0.5,
+        confirm_jumps: int = 3,
     ) -> None:
         self.camera, self.body = camera, body
         self.root = np.array(root, dtype=np.float64)
@@ -58,6 +72,11 @@ class RootEstimator:
         self._size0 = head_blob_width if head_size_px is None else head_size_px
         self._bias = np.asarray(head_bias, dtype=np.float64)
         self._depth_gain, self._xy_gain, self._max_jump = depth_gain, xy_gain, max_jump
+        self._min_head_share, self._xy_gate, self._confirm_jumps = min_head_share, xy_gate, confirm_jumps
+        self._run: list[npt.NDArray[np.float64]] = []  # the last measurements, each near the one before
+        self._previous_fit: npt.NDArray[np.float64] | None = None  # last frame's fitted X, Y
+        self._expected = self.root[:2].copy()  # this frame's X, Y at last frame's velocity
+        self._velocity_known = False
         self._recent: deque[float] = deque(maxlen=5)
         self._anchor = self.root[:2].copy()  # the last root X, Y measured from the head
 
@@ -78,18 +97,52 @@ class RootEstimator:
         if self._size0 is None:
             return True
         _, _, width, height = features.blobs[head.blob].bbox
-        expected = self._size0 * self._z0 / self.depth
-        return width <= (1.0 + self._max_jump) * expected and height <= 2.2 * expected
+        expected = self._expected_head_px()
+        small = self._min_head_share * expected
+        return small <= width <= (1.0 + self._max_jump) * expected and small <= height <= 2.2 * expected
+
+    def _expected_head_px(self) -> float:
+        """The head's width in pixels at the current depth (from its size at start-up)."""
+        return float(self._size0 or 0.0) * self._z0 / self.depth
+
+    def _pixels_per_metre(self, depth: float) -> float:
+        camera = self.camera
+        if camera.kind == "perspective":
+            return camera.focal / max(depth, 1e-3)
+        if camera.kind == "weak_perspective":
+            return camera.focal / (camera.reference_depth or depth)
+        return camera.focal
+
+    def _accept_xy(self, measured: npt.NDArray[np.float64]) -> bool:
+        """Whether a root X, Y measured from the head point is taken (see the module docs).
+
+        Taken when it lies within the gate of this frame's expected X, Y, or when it continues
+        a run of `confirm_jumps` measurements each within the gate of the one before (the
+        person did move, or the estimate had drifted).
+        """
+        if self._size0 is None or not self._velocity_known:
+            return True  # right after start-up the person may still be walking in
+        gate_m = self._xy_gate * self._size0 / self._pixels_per_metre(self._z0)
+        if self._run and float(np.hypot(*(measured - self._run[-1]))) > gate_m:
+            self._run.clear()
+        self._run.append(measured)
+        return float(np.hypot(*(measured - self._expected))) <= gate_m or len(self._run) >= self._confirm_jumps
 
     def _measure_depth(self, features: FrameFeatures) -> float | None:
         head = features.head
-        if self._w0 is None or head is None or not self._head_blob_ok(features):
+        if self._w0 is None or head is None:
             return None
         width = float(features.blobs[head.blob].bbox[2])
         expected = self._w0 * self._z0 / self.depth
         if not abs(width / expected - 1.0) <= self._max_jump:
             return None
         return self._z0 * self._w0 / width
+
+    def _update_depth(self, features: FrameFeatures) -> None:
+        z = self._measure_depth(features)
+        if z is not None:
+            self._recent.append(z)
+            self.root[2] += self._depth_gain * (float(np.median(self._recent)) - self.root[2])
 
     def update(
         self, features: FrameFeatures, pose: npt.ArrayLike, fitted_root: npt.ArrayLike | None = None
@@ -104,16 +157,23 @@ class RootEstimator:
         Returns:
             `(3,)` root, metres.
         """
+        self._expected = self.root[:2].copy()
+        self._velocity_known = False
         if fitted_root is not None:
-            self.root[:2] = np.asarray(fitted_root, dtype=np.float64)[:2]
-        z = self._measure_depth(features)
-        if z is not None:
-            self._recent.append(z)
-            self.root[2] += self._depth_gain * (float(np.median(self._recent)) - self.root[2])
+            fitted = np.asarray(fitted_root, dtype=np.float64)[:2]
+            self._velocity_known = self._previous_fit is not None
+            step = fitted - self._previous_fit if self._previous_fit is not None else np.zeros(2)
+            self.root[:2], self._previous_fit = fitted, fitted.copy()
+            self._expected = fitted + step
         head = features.head
         if head is not None and self._head_blob_ok(features):
-            measured = root_from_head(self.camera, np.asarray(head.xy) - self._bias, self.depth, pose, self.body)
-            self._anchor = measured[:2].copy()
+            point = np.asarray(head.xy) - self._bias
+            # A head point held back as a jump is not the head: its width must not move the depth.
+            if self._accept_xy(root_from_head(self.camera, point, self.depth, pose, self.body)[:2]):
+                self._update_depth(features)
+                self._anchor = root_from_head(self.camera, point, self.depth, pose, self.body)[:2].copy()
+        else:
+            self._run.clear()
         # Without a head measurement the last one still anchors X, Y: the search's root window
         # must not be able to walk the body away frame after frame.
         self.root[:2] += self._xy_gain * (self._anchor - self.root[:2])

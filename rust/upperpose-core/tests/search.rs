@@ -471,3 +471,30 @@ fn a_fit_on_the_mirror_branch_returns_to_the_arm_in_front() {
         assert!(x_up > 0.3, "seed {seed}: x_up {x_up}");
     }
 }
+
+#[test]
+fn the_turn_prior_pulls_the_torso_towards_the_camera() {
+    // Ideal features of a torso turned by 0.3 rad: without the prior the fit finds the turn,
+    // with an overwhelming prior it stays facing the camera.
+    let root = Vector3::new(0.0, 0.12, 2.2);
+    let body = BodyModel::default();
+    let mut truth = test_poses()[0];
+    truth.set(Dof::TorsoY, 0.3);
+    let f = features_of(&truth, &root, &body, &camera());
+    let mut prediction = truth;
+    prediction.set(Dof::TorsoY, 0.15);
+    let mut req = request(&f, prediction, root, Mode::Trajectory);
+    req.window_scale = 4.0; // the turn's window, +-0.05 rad a frame, reaches 0 and 0.35
+    req.search = [true, false, false];
+    let fit = |turn_weight: f64| {
+        let config = SearchConfig {
+            turn_weight,
+            ..SearchConfig::default()
+        };
+        fit_frame(&req, &config).unwrap().pose.get(Dof::TorsoY)
+    };
+    let free = fit(0.0);
+    let held = fit(1000.0);
+    assert!((free - 0.3).abs() < 0.03, "without the prior: {free}");
+    assert!(held.abs() < 0.03, "with it: {held}");
+}

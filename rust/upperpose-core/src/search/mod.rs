@@ -126,6 +126,9 @@ pub struct SearchConfig {
     /// Arm lengths a hand may lie behind the shoulder for free (an arm swinging while
     /// walking goes about 0.3 behind).
     pub behind_margin: f64,
+    /// Weight of the prior towards a torso facing the camera: added to the torso stage's cost
+    /// per squared radian of turn (`torso_y`). 0 turns it off.
+    pub turn_weight: f64,
     /// An arm's Edge and Motion terms get no credit for feature pixels under the other arm (as
     /// fitted or predicted): otherwise an arm laid over the other one collects that arm's
     /// contour for free (docs/cost.md).
@@ -152,6 +155,7 @@ impl Default for SearchConfig {
             sigma: 1.0,
             behind_weight: 2.0,
             behind_margin: 0.2,
+            turn_weight: 2.0,
             mask_other_arm_edges: true,
             sil_by_part_area: true,
         }
@@ -410,8 +414,17 @@ impl StageSetup<'_> {
         let (p, r) = self.candidate(x);
         let skel = self.skeleton(&p, &r);
         self.terms_of(&skel, scratch).map_or(f64::INFINITY, |t| {
-            t.total(&self.config.weights) + self.behind(&skel)
+            t.total(&self.config.weights) + self.behind(&skel) + self.turn(&p)
         })
+    }
+
+    /// The prior towards a torso facing the camera (docs/search.md): a turn changes the
+    /// torso's outline little, so without it the turn drifts and the arms follow it.
+    fn turn(&self, pose: &Pose) -> f64 {
+        match self.stage {
+            Stage::Torso => self.config.turn_weight * pose.get(Dof::TorsoY).powi(2),
+            _ => 0.0,
+        }
     }
 
     /// The prior against a hand behind the body (docs/search.md): the silhouette of an arm

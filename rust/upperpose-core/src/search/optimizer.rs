@@ -84,6 +84,7 @@ pub fn effective(config: &SearchConfig) -> Cow<'_, SearchConfig> {
                 ratio: 0.0,
             };
             c.behind_weight = 0.0;
+            c.turn_weight = 0.0;
             Cow::Owned(c)
         }
     }
