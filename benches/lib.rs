@@ -87,6 +87,7 @@ pub fn ideal_features(s: &Scene) -> Features {
                 point(Joint::RightHand),
                 point(Joint::LeftHand),
             ],
+            merged: [None; 3],
         },
     }
 }

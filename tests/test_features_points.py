@@ -179,3 +179,37 @@ def test_a_limb_that_differs_from_the_room_only_in_colour_is_kept() -> None:
     assert kept[0].gradient == 0.0
     assert find_skin_blobs(skin, edge, CONFIG) == []  # without I_sub: P_SB alone, as before
     assert find_skin_blobs(skin, edge, CONFIG.replace(blob_min_changed=1.1), sub) == []
+
+
+def test_hand_leaving_the_face_does_not_push_the_head_onto_it() -> None:
+    # The model's hand is still on the face (top) while the real hand has just left it (below
+    # the chin): matched by total distance alone, the head would take the hand's blob.
+    def hand(s):
+        return cv2.circle(s, (300, 160), 12, 255, -1)  # 12 px below the chin
+
+    blobs = blobs_of(face, hand, lambda s: cv2.circle(s, (440, 310), 14, 255, -1))
+    predicted = joints((320, 100), (320, 80), (436, 305))
+    head, right, _ = locate_points(blobs, predicted, CONFIG)
+    assert not head.merged and abs(head.xy[1] - 100) < 20
+    assert np.hypot(right.xy[0] - 300, right.xy[1] - 160) < 8
+    swapped, _, _ = locate_points(blobs, predicted, CONFIG.replace(head_priority=1.0))
+    assert abs(swapped.xy[1] - 160) < 10, "without the priority the head takes the hand's blob"
+
+
+def test_hand_merged_with_the_face_is_boxed_clear_of_the_head() -> None:
+    def hand(s):
+        return cv2.circle(s, (300, 145), 14, 255, -1)  # overlaps the chin
+
+    blobs = blobs_of(face, hand)
+    head, right, _ = locate_points(blobs, joints((320, 100), (300, 145), (440, 310)), CONFIG)
+    assert head.merged and right.merged and right.box is not None
+    x0, y0, x1, y1 = right.box
+    # Farther than head_length shoulder widths (50 px) from the head: the bottom of the hand.
+    assert y0 > 136 and y1 <= 160 and 285 <= x0 <= x1 <= 315
+    assert head.box is None
+
+
+def test_hands_together_keep_the_whole_blob() -> None:
+    blobs = blobs_of(face, lambda s: cv2.ellipse(s, (320, 330), (30, 14), 0, 0, 360, 255, -1))
+    _, right, left = locate_points(blobs, joints((320, 100), (305, 330), (335, 330)), CONFIG)
+    assert right.merged and left.merged and right.box is None and left.box is None

@@ -65,6 +65,36 @@ def test_fit_recovers_a_pose_from_a_noisy_prediction(camera: upperpose.Camera, b
     assert fit.cost == pytest.approx(sum(fit.stage_costs.values()))
 
 
+@dataclass
+class MergedHand(IdealFeatures):
+    """Ideal features whose right hand is in a merged blob: no point, only the blob's box."""
+
+    box: tuple[float, float, float, float] = (0.0, 0.0, 0.0, 0.0)
+
+    def merged_boxes_array(self) -> np.ndarray:
+        out = np.full((3, 4), np.nan)
+        out[1] = self.box
+        return out
+
+
+def test_merged_hand_pays_its_distance_to_the_blob_box(camera: upperpose.Camera, body: upperpose.BodyModel) -> None:
+    f = ideal(WAVE, camera)
+    hand = f.points[1].copy()
+    f.points[1] = np.nan
+    shoulder_px = body.shoulder_width * camera.focal / ROOT[2]
+
+    def skin(box: tuple[float, float, float, float], merged_skin: bool = True) -> float:
+        features = MergedHand(f.sil_bits, f.edge_bits, f.motion_bits, f.points, box=box)
+        config = upperpose.SearchConfig(merged_skin=merged_skin)
+        fit = upperpose.fit_frame(features, WAVE, ROOT, body, camera, search=(), config=config)
+        return float(fit.terms["right_arm"]["skin"])
+
+    x, y = hand
+    assert skin((x - 20, y - 10, x + 20, y + 10)) == 0.0
+    assert skin((x + 30, y - 10, x + 60, y + 10)) == pytest.approx(30 / shoulder_px)
+    assert skin((x + 30, y - 10, x + 60, y + 10), merged_skin=False) == 0.0
+
+
 def test_unsearched_stages_keep_the_prediction(camera: upperpose.Camera, body: upperpose.BodyModel) -> None:
     prediction = WAVE.replace(right_x_down=1.3, left_z_up=0.5)
     fit = upperpose.fit_frame(ideal(WAVE, camera), prediction, ROOT, body, camera, search=["right_arm"])

@@ -97,7 +97,17 @@ def fit_frame(
         int(frame_index),
         config or SearchConfig(),
         None if angle_window_scales is None else as_float_array(angle_window_scales, "angle_window_scales", (13,)),
+        merged_boxes(features),
     )
+
+
+def merged_boxes(features: BitFeatures) -> npt.NDArray[np.float64] | None:
+    """`(3, 4)` box of the merged blob holding each part (NaN rows: not merged), or None.
+
+    Features without `merged_boxes_array` (test doubles) have no merged blobs.
+    """
+    boxes = getattr(features, "merged_boxes_array", None)
+    return None if boxes is None else np.ascontiguousarray(boxes(), dtype=np.float64)
 
 
 __all__ = ["STAGES", "FrameFit", "SearchConfig", "fit_frame"]

@@ -160,6 +160,12 @@ class FeatureConfig:
     """Hand and head matching: largest distance from the predicted joint to the nearest
     blob pixel, in units of the predicted shoulder width."""
 
+    head_priority: float = 3.0
+    """Hand and head matching: the head's distance counts this many times a hand's when blobs
+    are shared out. The head moves least and is matched most reliably; when a hand leaves the
+    face, a model hand still on the face must not take the face's blob and push the head onto
+    the hand's."""
+
     hand_length: float = 0.5
     """Hand point: the point is the centroid of the last `hand_length` shoulder widths of
     the blob along the forearm (the hand, with fingers), so that a blob that also covers
@@ -303,6 +309,7 @@ class FeatureConfig:
             raise ValueError(f"edge_blur must be odd, got {self.edge_blur}")
         for name in (
             "hand_gate",
+            "head_priority",
             "hand_length",
             "forearm_length",
             "hand_min_foreshortening",

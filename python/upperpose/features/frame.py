@@ -99,6 +99,23 @@ class FrameFeatures:
                 out[k] = point.xy
         return out
 
+    def merged_boxes_array(self) -> npt.NDArray[np.float64]:
+        """`(3, 4)` float64 (x0, y0, x1, y1) per point, the box of the merged blob holding it.
+
+        The box is the whole blob's, or `SkinPoint.box` (the part of it where the point can
+        be); NaN rows for points that are absent or not merged. A merged blob gives no point
+        for the parts it holds, but it does say that they are in it.
+        """
+        out = np.full((3, 4), np.nan)
+        for k, point in enumerate(self.points):
+            if point is not None and point.merged:
+                if point.box is not None:
+                    out[k] = point.box
+                else:
+                    x, y, w, h = self.blobs[point.blob].bbox
+                    out[k] = (x, y, x + w - 1, y + h - 1)
+        return out
+
     def point_status(self) -> npt.NDArray[np.uint8]:
         """`(3,)` uint8 per point: 0 absent, 1 found, 2 merged (POINT_ABSENT/FOUND/MERGED)."""
         return np.array(

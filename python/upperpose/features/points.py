@@ -39,13 +39,16 @@ class SkinPoint:
         xy: (x, y) in pixels. For a merged point this is the merged blob's centroid, a hint
             for drawing only, not a measurement of the part.
         merged: the blob also holds another part (hand on face, hands together); the cost
-            must leave a merged point out.
+            must not use `xy`, only the blob's box (`FrameFeatures.merged_boxes_array`).
         blob: index of the blob in `FrameFeatures.blobs`.
+        box: for a hand merged with the head, (x0, y0, x1, y1) of the blob's pixels clear of the
+            predicted head, where the hand can be; None: anywhere in the blob.
     """
 
     xy: tuple[float, float]
     merged: bool
     blob: int
+    box: tuple[float, float, float, float] | None = None
 
 
 def unit(vector: npt.NDArray[np.float64]) -> npt.NDArray[np.float64] | None:
@@ -93,9 +96,14 @@ def principal_direction(blob: SkinBlob) -> npt.NDArray[np.float64] | None:
 
 
 def assign(
-    blobs: list[SkinBlob], targets: list[npt.NDArray[np.float64] | None], gate: float
+    blobs: list[SkinBlob],
+    targets: list[npt.NDArray[np.float64] | None],
+    gate: float,
+    weights: list[float] | None = None,
 ) -> tuple[list[int | None], list[bool]]:
     """Matches each target position to a distinct blob within `gate`, minimising total distance.
+
+    Each target's distance is weighed by `weights` (default 1).
 
     A target left without a blob while some blob is within its gate shares the nearest such
     blob with the target that holds it: both are marked merged.
@@ -114,11 +122,12 @@ def assign(
         candidates.append(sorted(near, key=lambda c: c[1]))
     best: tuple[float, tuple[int | None, ...]] = (math.inf, (None,) * len(targets))
     options = [[(None, 2.0 * gate)] + c for c in candidates]
+    weight = weights or [1.0] * len(targets)
     for combo in itertools.product(*options):
         chosen = [c[0] for c in combo if c[0] is not None]
         if len(chosen) != len(set(chosen)):
             continue
-        cost = sum(c[1] for c in combo)
+        cost = sum(w * c[1] for w, c in zip(weight, combo))
         if cost < best[0]:
             best = (cost, tuple(c[0] for c in combo))
     matched: list[int | None] = list(best[1])
@@ -132,6 +141,22 @@ def assign(
                 if other == shared:
                     merged[j] = True
     return matched, merged
+
+
+def clear_of(
+    blob: SkinBlob, centre: npt.NDArray[np.float64], radius: float
+) -> tuple[float, float, float, float] | None:
+    """Bounding box (x0, y0, x1, y1) of the blob's pixels farther than `radius` from `centre`.
+
+    None when there are none. A hand merged with the face lies in the blob but not at the
+    head's centre: without this its model hand may sit anywhere on the face, and when the
+    blobs part the matching can swap them.
+    """
+    keep = np.hypot(blob.xs - centre[0], blob.ys - centre[1]) > radius
+    if not np.any(keep):
+        return None
+    xs, ys = blob.xs[keep], blob.ys[keep]
+    return float(xs.min()), float(ys.min()), float(xs.max()), float(ys.max())
 
 
 def hand_slab(
@@ -168,7 +193,7 @@ def points_with_prediction(
     if not np.isfinite(shoulder_px):
         shoulder_px = config.min_shoulder_px
     targets = [joints[HEAD], joints[RIGHT_HAND], joints[LEFT_HAND]]
-    matched, merged = assign(blobs, list(targets), config.hand_gate * shoulder_px)
+    matched, merged = assign(blobs, list(targets), config.hand_gate * shoulder_px, [config.head_priority, 1.0, 1.0])
     neck = 0.5 * (joints[RIGHT_SHOULDER] + joints[LEFT_SHOULDER])
     directions = [
         unit(joints[HEAD] - neck),
@@ -184,6 +209,9 @@ def points_with_prediction(
             continue
         blob = blobs[index]
         direction = directions[k]
+        box = None
+        if k > 0 and merged[k] and matched[0] == index:
+            box = clear_of(blob, joints[HEAD], head_length)
         if merged[k] or direction is None:
             xy = blob.centroid
         elif k == 0:
@@ -191,7 +219,7 @@ def points_with_prediction(
         else:
             elbow, hand = joints[RIGHT_ELBOW + k - 1], joints[RIGHT_HAND + k - 1]
             xy = far_end(blob, direction, hand_slab(blob, elbow, hand, shoulder_px, config))
-        points.append(SkinPoint(xy, merged[k], index))
+        points.append(SkinPoint(xy, merged[k], index, box))
     return points
 
 

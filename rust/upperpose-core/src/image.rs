@@ -18,11 +18,17 @@ impl BitPlane<'_> {
     }
 }
 
+/// An axis-aligned box in pixels: its least and greatest corners.
+pub type PixelBox = [Vector2<f64>; 2];
+
 /// The skin points the cost compares with the model's joints.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct SkinPoints {
     /// Head, right hand, left hand in pixels; `None` when absent or merged with another blob.
     pub points: [Option<Vector2<f64>>; 3],
+    /// For a part whose blob also holds another part (hand on face, hands together): the
+    /// merged blob's bounding box. The blob gives no point for the part, but the part is in it.
+    pub merged: [Option<PixelBox>; 3],
 }
 
 /// The features the search matches against.

@@ -75,6 +75,7 @@ fn features_of(pose: &Pose, root: &Vector3<f64>, body: &BodyModel, camera: &Came
                 point(Joint::RightHand),
                 point(Joint::LeftHand),
             ],
+            merged: [None; 3],
         },
     }
 }

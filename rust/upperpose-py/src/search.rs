@@ -58,6 +58,8 @@ fn terms_values(t: &CostTerms) -> [f64; 6] {
 ///     sil_by_part_area: divide the Sil and Arm mismatch by the part's nominal area instead of
 ///         its region's area (docs/cost.md); with False, SPEC 5's normalisation, also pass
 ///         weights={"sil": 20}.
+///     merged_skin: a part whose skin blob is merged with another part's pays the Skin term
+///         for its joint's distance to the merged blob's box (docs/cost.md).
 #[pyclass(frozen, name = "SearchConfig", module = "upperpose._upperpose")]
 #[derive(Clone)]
 pub struct PySearchConfig {
@@ -72,7 +74,8 @@ impl PySearchConfig {
                         weights = None, limits = "anatomical", non_penetration = true, threads = None, seed = 0,
                         root_window = None, initial_root_window = None, row_steps = None, optimizer = "apso",
                         sigma = None, behind_weight = None, behind_margin = None,
-                        turn_weight = None, mask_other_arm_edges = true, sil_by_part_area = true))]
+                        turn_weight = None, mask_other_arm_edges = true, sil_by_part_area = true,
+                        merged_skin = true))]
     #[allow(clippy::too_many_arguments)] // one keyword argument per setting
     fn new(
         particles: Option<usize>,
@@ -95,6 +98,7 @@ impl PySearchConfig {
         turn_weight: Option<f64>,
         mask_other_arm_edges: bool,
         sil_by_part_area: bool,
+        merged_skin: bool,
     ) -> PyResult<Self> {
         let mut c = SearchConfig::default();
         let d = SwarmConfig::default();
@@ -158,6 +162,7 @@ impl PySearchConfig {
         c.non_penetration = non_penetration;
         c.mask_other_arm_edges = mask_other_arm_edges;
         c.sil_by_part_area = sil_by_part_area;
+        c.merged_skin = merged_skin;
         if threads == Some(0) {
             return Err(PyValueError::new_err("threads must be >= 1, got 0"));
         }
@@ -271,6 +276,10 @@ impl PySearchConfig {
     #[getter]
     fn sil_by_part_area(&self) -> bool {
         self.inner.sil_by_part_area
+    }
+    #[getter]
+    fn merged_skin(&self) -> bool {
+        self.inner.merged_skin
     }
     /// Every n-th image row is scored, per stage (torso, right arm, left arm); 1 is exact.
     #[getter]
@@ -404,6 +413,8 @@ fn plane<'a>(
 /// Args:
 ///     sil, edge, motion: `(H, ceil(W/64))` uint64 bit planes (bit i of word k = pixel 64k+i).
 ///     points: `(3, 2)` float64 head, right-hand, left-hand skin points; NaN rows are ignored.
+///     merged_boxes: `(3, 4)` float64 per part (x0, y0, x1, y1): the box of the merged blob
+///         that holds the part; NaN rows (or None) for parts that are not merged.
 ///     width: image width in pixels (the planes' height gives H).
 ///     prediction: `(13,)` predicted pose.
 ///     root: `(3,)` root position in metres.
@@ -421,7 +432,7 @@ fn plane<'a>(
 ///     The `FrameFit`.
 #[pyfunction(name = "fit_frame_bits")]
 #[pyo3(signature = (sil, edge, motion, points, width, prediction, root, body, camera, mode, window_scale,
-                    frame_interval, search, frame_index, config, angle_window_scales=None))]
+                    frame_interval, search, frame_index, config, angle_window_scales=None, merged_boxes=None))]
 #[allow(clippy::too_many_arguments)]
 pub fn fit_frame_bits_py(
     py: Python<'_>,
@@ -441,6 +452,7 @@ pub fn fit_frame_bits_py(
     frame_index: u64,
     config: &PySearchConfig,
     angle_window_scales: Option<PyReadonlyArray1<'_, f64>>,
+    merged_boxes: Option<PyReadonlyArray2<'_, f64>>,
 ) -> PyResult<PyFrameFit> {
     let mut scales = [1.0; DOF_COUNT];
     if let Some(a) = &angle_window_scales {
@@ -475,6 +487,22 @@ pub fn fit_frame_bits_py(
     for (k, slot) in skin.points.iter_mut().enumerate() {
         let (x, y) = (pts[2 * k], pts[2 * k + 1]);
         *slot = (x.is_finite() && y.is_finite()).then(|| Vector2::new(x, y));
+    }
+    if let Some(boxes) = &merged_boxes {
+        if boxes.shape() != [3, 4] {
+            return Err(PyValueError::new_err(format!(
+                "merged_boxes must have shape (3, 4), got {:?}",
+                boxes.shape()
+            )));
+        }
+        let b = boxes.as_slice().map_err(|_| {
+            PyTypeError::new_err("merged_boxes must be a C-contiguous float64 array")
+        })?;
+        for (k, slot) in skin.merged.iter_mut().enumerate() {
+            let v = &b[4 * k..4 * k + 4];
+            *slot = (v.iter().all(|x| x.is_finite()) && v[0] <= v[2] && v[1] <= v[3])
+                .then(|| [Vector2::new(v[0], v[1]), Vector2::new(v[2], v[3])]);
+        }
     }
     let mode = match mode {
         "trajectory" => Mode::Trajectory,

@@ -12,7 +12,7 @@
 //! - `|sil ^ (base | part)| = |sil ^ base| + |part & !base| - 2 |part & !base & sil|`
 //! - Edge and Motion count feature pixels under the part's one-pixel contour.
 
-use crate::image::FrameView;
+use crate::image::{FrameView, PixelBox};
 use crate::raster::{BitMask, Roi, RowSpans, Scanner, Span};
 use nalgebra::Vector2;
 use std::borrow::Cow;
@@ -371,11 +371,21 @@ pub struct Scratch {
     spans: Vec<RowSpans>,
 }
 
-/// A skin point of the image and the model joint it should lie on, both in pixels.
+/// A model joint and where the image puts it, both in pixels: a skin point, or the box of a
+/// merged blob that holds it somewhere (a point is a box of size zero).
 #[derive(Debug, Clone, Copy)]
 pub struct SkinPair {
     pub model: Vector2<f64>,
-    pub image: Vector2<f64>,
+    pub image: PixelBox,
+}
+
+impl SkinPair {
+    /// Distance from the model joint to the image's point or box; 0 inside the box.
+    pub fn distance(&self) -> f64 {
+        let [lo, hi] = self.image;
+        let outside = (lo - self.model).sup(&(self.model - hi));
+        outside.sup(&Vector2::zeros()).norm()
+    }
 }
 
 /// Scores a candidate part, given as the scanners of its convex pieces.
@@ -489,7 +499,7 @@ pub fn evaluate(
         k * arm_feat as f64,
     );
     let model_area = region.base_area + free;
-    let skin_sum: f64 = skin.iter().map(|p| (p.model - p.image).norm()).sum();
+    let skin_sum: f64 = skin.iter().map(SkinPair::distance).sum();
     CostTerms {
         sil: (region.xor0 + free - 2.0 * sil_free) / region.sil_norm,
         edge: f64::from(edge) / contour,
@@ -512,6 +522,32 @@ mod tests {
     use crate::{skeleton_from_pose, BodyModel, Camera, Pose};
     use nalgebra::Vector3;
 
+    #[test]
+    fn skin_distance_is_to_the_point_or_outside_the_box() {
+        let at = |x, y| Vector2::new(x, y);
+        let point = SkinPair {
+            model: at(3.0, 4.0),
+            image: [at(0.0, 0.0), at(0.0, 0.0)],
+        };
+        assert!((point.distance() - 5.0).abs() < 1e-12);
+        let merged = [at(10.0, 20.0), at(30.0, 40.0)];
+        let inside = SkinPair {
+            model: at(15.0, 39.0),
+            image: merged,
+        };
+        assert_eq!(inside.distance(), 0.0);
+        let beside = SkinPair {
+            model: at(36.0, 25.0),
+            image: merged,
+        };
+        assert!((beside.distance() - 6.0).abs() < 1e-12);
+        let corner = SkinPair {
+            model: at(33.0, 44.0),
+            image: merged,
+        };
+        assert!((corner.distance() - 5.0).abs() < 1e-12);
+    }
+
     /// One cone of the rest pose, its scanner and its full-frame mask.
     fn upper_arm(full: &Roi) -> (Scanner, BitMask) {
         let body = BodyModel::default();
@@ -532,7 +568,7 @@ mod tests {
         let (piece, mask) = upper_arm(&full);
         assert!(mask.count() > 300);
         let everywhere = vec![u64::MAX; mask.words.len()];
-        let no_skin = SkinPoints { points: [None; 3] };
+        let no_skin = SkinPoints::default();
         let frame =
             FrameView::new(200, 200, &mask.words, &everywhere, &everywhere, no_skin).unwrap();
         let base = BitMask::new(full);
@@ -552,7 +588,7 @@ mod tests {
         let full = Roi::full(200, 200);
         let (piece, mask) = upper_arm(&full);
         let nothing = vec![0u64; mask.words.len()];
-        let no_skin = SkinPoints { points: [None; 3] };
+        let no_skin = SkinPoints::default();
         let frame = FrameView::new(200, 200, &nothing, &nothing, &nothing, no_skin).unwrap();
         let base = BitMask::new(full);
         let region = StageRegion::new(&frame, full, full, 1, &base, None, None);

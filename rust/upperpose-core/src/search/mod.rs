@@ -15,7 +15,7 @@ mod test_functions;
 use crate::body::BodyModel;
 use crate::camera::Camera;
 use crate::error::{finite, positive, CoreError, Result};
-use crate::image::FrameView;
+use crate::image::{FrameView, PixelBox};
 use crate::kinematics::{skeleton_from_pose, Joint, Side, Skeleton};
 use crate::outline::{outline_of_solid, Outline};
 use crate::parallel;
@@ -24,7 +24,7 @@ use crate::raster::{BitMask, Roi, Scanner};
 use crate::solid::{solid_of_part, Part};
 use apso::SwarmConfig;
 use cost::{evaluate, CostTerms, CostWeights, Scratch, SkinPair, StageRegion};
-use nalgebra::{Vector2, Vector3};
+use nalgebra::Vector3;
 pub use optimizer::Optimizer;
 
 /// Where the swarm starts.
@@ -137,6 +137,9 @@ pub struct SearchConfig {
     /// region's area (docs/cost.md). The default weights are for `true`; SPEC 5's `false`
     /// wants `weights.sil` 20.
     pub sil_by_part_area: bool,
+    /// A part whose skin blob is merged with another part's (hand on face, hands together)
+    /// pays the Skin term for its joint's distance to that blob's box (docs/cost.md).
+    pub merged_skin: bool,
 }
 
 impl Default for SearchConfig {
@@ -158,6 +161,7 @@ impl Default for SearchConfig {
             turn_weight: 2.0,
             mask_other_arm_edges: true,
             sil_by_part_area: true,
+            merged_skin: true,
         }
     }
 }
@@ -343,7 +347,7 @@ struct StageSetup<'a> {
     base_root: Vector3<f64>,
     /// The skeleton of `base_pose` at `base_root`.
     base_skel: Skeleton,
-    skin_target: Option<Vector2<f64>>,
+    skin_target: Option<PixelBox>,
     shoulder_px: f64,
     /// Search dimensions: the stage's angles, plus root dx, dy for the torso.
     bounds: Vec<DofRange>,
@@ -553,7 +557,11 @@ fn run_stage(
         base_pose: *pose,
         base_root: *root,
         base_skel: skel,
-        skin_target: req.frame.skin.points[stage.skin_joint().1],
+        skin_target: {
+            let (k, skin) = (stage.skin_joint().1, &req.frame.skin);
+            let merged = skin.merged[k].filter(|_| config.merged_skin);
+            skin.points[k].map(|p| [p, p]).or(merged)
+        },
         shoulder_px: b.shoulder_width * pixels_per_metre(&req.camera, root),
         bounds,
     };
