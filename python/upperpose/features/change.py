@@ -45,7 +45,8 @@ def plate_distance(frame: Frame, plate: Frame, diff: Frame, out: Mask) -> Mask:
     """Grey of |frame - plate| per pixel (a weighted mean of the B, G, R differences) into `out`.
 
     Args:
-        frame, plate: `(H, W, 3)` uint8 BGR.
+        frame: `(H, W, 3)` uint8 BGR.
+        plate: `(H, W, 3)` uint8 BGR of the same size.
         diff: `(H, W, 3)` uint8 scratch array.
         out: `(H, W)` uint8 result.
     """

@@ -146,8 +146,10 @@ class FeatureExtractor:
         return grey
 
     def _distance(self, frame: Frame, plate: Frame) -> Mask:
-        """Distance of `frame` to the plate into the current distance buffer (the other keeps the
-        previous frame's)."""
+        """Distance of `frame` to the plate, into the current distance buffer.
+
+        The other buffer keeps the previous frame's.
+        """
         work = self._work
         return plate_distance(frame, plate, work.change[0], work.distances[self._current])
 

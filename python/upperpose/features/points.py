@@ -158,8 +158,7 @@ def hand_slab(
 
 
 def shoulder_width(joints: npt.NDArray[np.float64], config: FeatureConfig) -> float:
-    """The predicted shoulder width in pixels, the scale of gates and lengths (at least
-    `min_shoulder_px`)."""
+    """The predicted shoulder width in pixels (at least `min_shoulder_px`): the scale of gates."""
     width = float(np.hypot(*(joints[RIGHT_SHOULDER] - joints[LEFT_SHOULDER])))
     return max(width, config.min_shoulder_px) if np.isfinite(width) else config.min_shoulder_px
 

@@ -35,8 +35,10 @@ def chromaticity(bgr: npt.NDArray[np.uint8]) -> npt.NDArray[np.float64]:
 def part_colour(
     blob: SkinBlob, chroma: npt.NDArray[np.float64], point: npt.NDArray[np.float64], radius: float
 ) -> npt.NDArray[np.float64]:
-    """Median chromaticity of the blob's pixels within `radius` of a predicted part (at least
-    its `_MIN_SAMPLE` nearest pixels)."""
+    """Median chromaticity of the blob's pixels within `radius` of a predicted part.
+
+    At least its `_MIN_SAMPLE` nearest pixels, so that a part lying off the blob has a colour.
+    """
     distance = np.hypot(blob.xs - point[0], blob.ys - point[1])
     k = min(_MIN_SAMPLE, len(distance)) - 1
     near = distance <= max(radius, float(np.partition(distance, k)[k]))
@@ -67,8 +69,8 @@ def split_at_colour(
     head and the hand then lie in different 8-connected pieces, each at least `blob_min_area`,
     side by side: a hand piece that wraps round the head piece (their convex hulls share more
     than `split_max_overlap` of its area) is hair rim that kept a skin-like colour where it
-    blends with the room, not a hand beside the head. The left-out pixels (the hair between
-    them) belong to neither piece.
+    blends with the room, not a hand beside the head. The head's piece is the rest of the blob,
+    its hair included.
     """
     chroma = chromaticity(frame[blob.ys, blob.xs])
     face, skin = (part_colour(blob, chroma, p, radius) for p in (head, hand))
@@ -86,10 +88,14 @@ def split_at_colour(
     pieces = [(labels == label).astype(np.uint8) * 255 for label in (ours, theirs)]
     if min(cv2.countNonZero(p) for p in pieces) < config.blob_min_area:
         return None
-    head_piece, hand_piece = (blob_from_pixels(p, (x, y), blob.gradient) for p in pieces)
-    if hull_overlap(head_piece, hand_piece, blob.bbox) > config.split_max_overlap * hand_piece.area:
+    face_piece, hand_piece = (blob_from_pixels(p, (x, y), blob.gradient) for p in pieces)
+    if hull_overlap(face_piece, hand_piece, blob.bbox) > config.split_max_overlap * hand_piece.area:
         return None
-    return head_piece, hand_piece
+    # The head keeps its hair: its blob is then the one it has without a hand (its width gives
+    # the root depth, its widest disc the head point).
+    whole = np.zeros((h, w), np.uint8)
+    whole[blob.ys - y, blob.xs - x] = 255
+    return blob_from_pixels(cv2.subtract(whole, pieces[1]), (x, y), blob.gradient), hand_piece
 
 
 def hull_overlap(a: SkinBlob, b: SkinBlob, box: tuple[int, int, int, int]) -> int:
@@ -104,8 +110,10 @@ def hull_overlap(a: SkinBlob, b: SkinBlob, box: tuple[int, int, int, int]) -> in
 def split_head_from_hands(
     blobs: list[SkinBlob], frame: Frame, joints: npt.NDArray[np.float64], config: FeatureConfig
 ) -> list[SkinBlob]:
-    """The blobs, with each blob that the matcher would share between the head and a hand split
-    into their pieces where colour allows (`split_at_colour`); largest first.
+    """The blobs, with head-and-hand blobs split into their pieces where colour allows.
+
+    A blob is tried when the matcher (`assign`) would share it between the head and a hand
+    (`split_at_colour`). Returns the blobs largest first.
 
     Args:
         blobs: valid skin blobs, largest first.
