@@ -126,8 +126,9 @@ def split_head_from_hands(
     if not all(t is not None and np.all(np.isfinite(t)) for t in targets):
         return blobs
     blobs = list(blobs)
+    gate = config.hand_gate * shoulder_px
+    matched, merged = assign(blobs, targets, gate)
     for hand in (1, 2):
-        matched, merged = assign(blobs, targets, config.hand_gate * shoulder_px)
         shared = matched[0]
         if shared is None or not merged[0] or matched[hand] != shared:
             continue
@@ -136,5 +137,6 @@ def split_head_from_hands(
         )
         if pieces is not None:
             blobs[shared : shared + 1] = pieces
+            matched, merged = assign(blobs, targets, gate)
     blobs.sort(key=lambda b: -b.area)
     return blobs
