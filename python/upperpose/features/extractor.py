@@ -249,8 +249,10 @@ class FeatureExtractor:
         # where it came back towards it, a moving part uncovered the room (its trail), and
         # skin-coloured room there is not skin.
         skin0 = skin_mask(relit, cfg, work.skin, out["skin0"])
-        distance = self._distance(frame, plate)
-        cv2.compare(distance, work.distances[self._current ^ 1], cv2.CMP_GE, dst=work.allowed)
+        distance, before = self._distance(frame, plate), work.distances[self._current ^ 1]
+        cv2.compare(distance, before, cv2.CMP_GE, dst=work.allowed)
+        cv2.compare(before, cfg.sub_threshold, cv2.CMP_LE, dst=work.tmp)
+        cv2.bitwise_or(work.allowed, work.tmp, dst=work.allowed)
         cv2.bitwise_and(work.allowed, motion, dst=work.allowed)
         cv2.bitwise_or(self._not_background_skin, work.allowed, dst=work.allowed)
         cv2.bitwise_or(work.allowed, sub, dst=work.allowed)
