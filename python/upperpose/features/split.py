@@ -17,7 +17,7 @@ import numpy as np
 import numpy.typing as npt
 
 from upperpose.features.blobs import SkinBlob, blob_from_pixels
-from upperpose.features.checks import Frame
+from upperpose.features.checks import Frame, Mask
 from upperpose.features.config import FeatureConfig
 from upperpose.features.points import assign, point_targets, shoulder_width
 
@@ -91,11 +91,23 @@ def split_at_colour(
     face_piece, hand_piece = (blob_from_pixels(p, (x, y), blob.gradient) for p in pieces)
     if hull_overlap(face_piece, hand_piece, blob.bbox) > config.split_max_overlap * hand_piece.area:
         return None
-    # The head keeps its hair: its blob is then the one it has without a hand (its width gives
-    # the root depth, its widest disc the head point).
+    return blob_from_pixels(head_with_hair(blob, *pieces), (x, y), blob.gradient), hand_piece
+
+
+def head_with_hair(blob: SkinBlob, face: Mask, hand: Mask) -> Mask:
+    """The head's pixels of a split blob (in its box): the rest of the blob nearer the face.
+
+    The rest of the blob, without the hand's piece, where it is nearer the face's piece than
+    the hand's. The head keeps its hair, so that its blob is about the one it has without the hand (its
+    width gives the root depth, its widest disc the head point); the left-out pixels at the
+    hand's outline (colour blended with the hair) go to neither, not widening the head.
+    """
+    x, y, w, h = blob.bbox
     whole = np.zeros((h, w), np.uint8)
     whole[blob.ys - y, blob.xs - x] = 255
-    return blob_from_pixels(cv2.subtract(whole, pieces[1]), (x, y), blob.gradient), hand_piece
+    to_face, to_hand = (cv2.distanceTransform(cv2.bitwise_not(m), cv2.DIST_L2, 3) for m in (face, hand))
+    nearer = np.where(to_face <= to_hand, 255, 0).astype(np.uint8)
+    return cv2.bitwise_and(cv2.subtract(whole, hand), nearer)
 
 
 def hull_overlap(a: SkinBlob, b: SkinBlob, box: tuple[int, int, int, int]) -> int:
