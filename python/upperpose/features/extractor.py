@@ -244,10 +244,10 @@ class FeatureExtractor:
             motion.fill(0)
         self._has_previous = True
         clock.lap("motion")
-        # I_skin = I_skin0 & (~background skin | I_motion | I_sub), opened; I_skin0 on the frame
-        # in the plate's light. I_motion counts only where the frame moved away from the plate:
-        # where it came back towards it, a moving part uncovered the room (its trail), and
-        # skin-coloured room there is not skin.
+        # I_skin = I_skin0 & (~background skin | I_motion & ~trail | I_sub), opened; I_skin0 on
+        # the frame in the plate's light. A trail: the pixel differed from the plate a frame
+        # before and came back towards it, a moving part uncovered the room; skin-coloured room
+        # there is not skin.
         skin0 = skin_mask(relit, cfg, work.skin, out["skin0"])
         distance, before = self._distance(frame, plate), work.distances[self._current ^ 1]
         cv2.compare(distance, before, cv2.CMP_GE, dst=work.allowed)

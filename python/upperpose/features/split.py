@@ -69,8 +69,8 @@ def split_at_colour(
     head and the hand then lie in different 8-connected pieces, each at least `blob_min_area`,
     side by side: a hand piece that wraps round the head piece (their convex hulls share more
     than `split_max_overlap` of its area) is hair rim that kept a skin-like colour where it
-    blends with the room, not a hand beside the head. The head's piece is the rest of the blob,
-    its hair included.
+    blends with the room, not a hand beside the head. The head's piece keeps its hair
+    (`head_with_hair`).
     """
     chroma = chromaticity(frame[blob.ys, blob.xs])
     face, skin = (part_colour(blob, chroma, p, radius) for p in (head, hand))
@@ -98,9 +98,9 @@ def head_with_hair(blob: SkinBlob, face: Mask, hand: Mask) -> Mask:
     """The head's pixels of a split blob (in its box): the rest of the blob nearer the face.
 
     The rest of the blob, without the hand's piece, where it is nearer the face's piece than
-    the hand's. The head keeps its hair, so that its blob is about the one it has without the hand (its
-    width gives the root depth, its widest disc the head point); the left-out pixels at the
-    hand's outline (colour blended with the hair) go to neither, not widening the head.
+    the hand's. The head keeps its hair, so that its blob is about the one it has without the
+    hand (its width gives the root depth, its widest disc the head point); the left-out pixels
+    at the hand's outline (colour blended with the hair) go to neither, not widening the head.
     """
     x, y, w, h = blob.bbox
     whole = np.zeros((h, w), np.uint8)
