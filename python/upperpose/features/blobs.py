@@ -108,10 +108,29 @@ def find_skin_blobs(skin: Mask, edge: Mask, config: FeatureConfig, sub: Mask | N
             sub is not None and stands_out_in_colour(pixels, (x, y), sub, config)
         ):
             continue
-        ys, xs = np.nonzero(pixels)
-        xs = (xs + x).astype(np.int32)
-        ys = (ys + y).astype(np.int32)
-        centroid = (float(xs.mean()), float(ys.mean()))
-        blobs.append(SkinBlob(area, centroid, (x, y, w, h), gradient, xs, ys, contour))
+        blobs.append(blob_from_pixels(pixels, (x, y), gradient, contour))
     blobs.sort(key=lambda b: -b.area)
     return blobs
+
+
+def blob_from_pixels(
+    pixels: Mask, origin: tuple[int, int], gradient: float, contour: npt.NDArray[np.int32] | None = None
+) -> SkinBlob:
+    """A `SkinBlob` from its nonzero `pixels` inside a box whose top-left corner is `origin`.
+
+    Args:
+        pixels: `(h, w)` uint8, nonzero = the blob's pixels (at least one).
+        origin: (x, y) of the box in the image.
+        gradient: its P_SB.
+        contour: its outer contour in image coordinates; traced from `pixels` when None.
+    """
+    x, y = origin
+    if contour is None:
+        contours, _ = cv2.findContours(pixels, cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_SIMPLE, offset=(x, y))
+        contour = max(contours, key=cv2.contourArea)
+    ys, xs = np.nonzero(pixels)
+    xs = (xs + x).astype(np.int32)
+    ys = (ys + y).astype(np.int32)
+    centroid = (float(xs.mean()), float(ys.mean()))
+    bbox = cv2.boundingRect(contour)
+    return SkinBlob(len(xs), centroid, bbox, gradient, xs, ys, contour)

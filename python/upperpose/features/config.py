@@ -189,6 +189,22 @@ class FeatureConfig:
     in the top `head_length` shoulder widths of the blob along the neck-to-head direction (keeps
     a bare neck or chest out)."""
 
+    split_chroma: float = 0.05
+    """Head and hand split: a blob the matcher would share between the head and a hand is split
+    when its pixels further than this from both the face's and the hand's chromaticity
+    ((R, G) / (R + G + B), which shading hardly changes) separate them: hair that passed the
+    skin rule joining a hand on it to the face (features/split.py). Skin, also shaded, lies
+    within about 0.04 of its part's colour; brown or blond hair about 0.06 from the face."""
+
+    split_sample: float = 0.15
+    """Head and hand split: the face's and the hand's colours are the median over the blob's
+    pixels within this many shoulder widths of the predicted head and hand."""
+
+    split_max_overlap: float = 0.15
+    """Head and hand split: the hand's piece may share at most this fraction of its area with
+    the head piece's convex hull (a hand beside the head); more is hair round the head that
+    stayed connected to the hand, and the blob stays merged."""
+
     min_shoulder_px: float = 20.0
     """Smallest shoulder width in pixels used for the scale of gates (a turned torso
     foreshortens the predicted shoulders)."""
@@ -315,6 +331,9 @@ class FeatureConfig:
             "hand_min_foreshortening",
             "forearm_reach",
             "head_length",
+            "split_chroma",
+            "split_sample",
+            "split_max_overlap",
             "min_shoulder_px",
             "startup_shoulder_faces",
             "bg_lead_seconds",

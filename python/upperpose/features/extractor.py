@@ -24,6 +24,7 @@ from upperpose.features.parts import (
 )
 from upperpose.features.points import LEFT_SHOULDER, RIGHT_SHOULDER, locate_points
 from upperpose.features.skin import SkinWork, skin_mask
+from upperpose.features.split import split_head_from_hands
 
 OUTPUT_NAMES = (
     "sub",
@@ -253,6 +254,8 @@ class FeatureExtractor:
         # P_SB counts edges within a pixel of the blob: its outline edges lie in a band that the
         # skin mask, shrunk by colour blending and its opening, often stops just short of.
         blobs = find_skin_blobs(skin, edge_dilated, cfg, sub)
+        if joints is not None:
+            blobs = split_head_from_hands(blobs, relit, joints, cfg)
         clock.lap("blobs")
         head, right_hand, left_hand = locate_points(blobs, joints, cfg)
         clock.lap("points")

@@ -182,18 +182,28 @@ def hand_slab(
     return full * min(1.0, max(config.hand_min_foreshortening, shortening))
 
 
+def shoulder_width(joints: npt.NDArray[np.float64], config: FeatureConfig) -> float:
+    """The predicted shoulder width in pixels (at least `min_shoulder_px`): the scale of gates."""
+    width = float(np.hypot(*(joints[RIGHT_SHOULDER] - joints[LEFT_SHOULDER])))
+    return max(width, config.min_shoulder_px) if np.isfinite(width) else config.min_shoulder_px
+
+
+def point_targets(joints: npt.NDArray[np.float64]) -> list[npt.NDArray[np.float64] | None]:
+    """The predicted head, right hand and left hand (POINT_NAMES order)."""
+    return [joints[HEAD], joints[RIGHT_HAND], joints[LEFT_HAND]]
+
+
+def point_weights(config: FeatureConfig) -> list[float]:
+    """Weights of the head's and the hands' distances in the matching: the head's priority."""
+    return [config.head_priority, 1.0, 1.0]
+
+
 def points_with_prediction(
     blobs: list[SkinBlob], joints: npt.NDArray[np.float64], config: FeatureConfig
 ) -> list[SkinPoint | None]:
     """Head, right hand and left hand from the blobs, given predicted 2D joints (JOINT_NAMES order)."""
-    shoulder_px = max(
-        float(np.hypot(*(joints[RIGHT_SHOULDER] - joints[LEFT_SHOULDER]))),
-        config.min_shoulder_px,
-    )
-    if not np.isfinite(shoulder_px):
-        shoulder_px = config.min_shoulder_px
-    targets = [joints[HEAD], joints[RIGHT_HAND], joints[LEFT_HAND]]
-    matched, merged = assign(blobs, list(targets), config.hand_gate * shoulder_px, [config.head_priority, 1.0, 1.0])
+    shoulder_px = shoulder_width(joints, config)
+    matched, merged = assign(blobs, point_targets(joints), config.hand_gate * shoulder_px, point_weights(config))
     neck = 0.5 * (joints[RIGHT_SHOULDER] + joints[LEFT_SHOULDER])
     directions = [
         unit(joints[HEAD] - neck),
