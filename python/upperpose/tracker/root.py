@@ -24,7 +24,7 @@ import numpy.typing as npt
 
 from upperpose.features import FrameFeatures
 from upperpose.model import BodyModel, Camera
-from upperpose.tracker.startup import root_from_head
+from upperpose.tracker.startup import pixels_per_metre, root_from_head
 
 
 class RootEstimator:
@@ -72,7 +72,9 @@ class RootEstimator:
         self._size0 = head_blob_width if head_size_px is None else head_size_px
         self._bias = np.asarray(head_bias, dtype=np.float64)
         self._depth_gain, self._xy_gain, self._max_jump = depth_gain, xy_gain, max_jump
-        self._min_head_share, self._xy_gate, self._confirm_jumps = min_head_share, xy_gate, confirm_jumps
+        self._min_head_share, self._confirm_jumps = min_head_share, confirm_jumps
+        # The gate in metres: the head's width at start-up times `xy_gate`.
+        self._gate_m = xy_gate * (self._size0 or 0.0) / pixels_per_metre(camera, self._z0)
         self._run: list[npt.NDArray[np.float64]] = []  # the last measurements, each near the one before
         self._previous_fit: npt.NDArray[np.float64] | None = None  # last frame's fitted X, Y
         self._expected = self.root[:2].copy()  # this frame's X, Y at last frame's velocity
@@ -105,14 +107,6 @@ class RootEstimator:
         """The head's width in pixels at the current depth (from its size at start-up)."""
         return float(self._size0 or 0.0) * self._z0 / self.depth
 
-    def _pixels_per_metre(self, depth: float) -> float:
-        camera = self.camera
-        if camera.kind == "perspective":
-            return camera.focal / max(depth, 1e-3)
-        if camera.kind == "weak_perspective":
-            return camera.focal / (camera.reference_depth or depth)
-        return camera.focal
-
     def _accept_xy(self, measured: npt.NDArray[np.float64]) -> bool:
         """Whether a root X, Y measured from the head point is taken (see the module docs).
 
@@ -122,11 +116,11 @@ class RootEstimator:
         """
         if self._size0 is None or not self._velocity_known:
             return True  # right after start-up the person may still be walking in
-        gate_m = self._xy_gate * self._size0 / self._pixels_per_metre(self._z0)
-        if self._run and float(np.hypot(*(measured - self._run[-1]))) > gate_m:
+        if self._run and float(np.hypot(*(measured - self._run[-1]))) > self._gate_m:
             self._run.clear()
         self._run.append(measured)
-        return float(np.hypot(*(measured - self._expected))) <= gate_m or len(self._run) >= self._confirm_jumps
+        near = float(np.hypot(*(measured - self._expected))) <= self._gate_m
+        return near or len(self._run) >= self._confirm_jumps
 
     def _measure_depth(self, features: FrameFeatures) -> float | None:
         head = features.head

@@ -124,6 +124,15 @@ def depth_from_face(camera: Camera, face_width_px: float) -> float:
     return float(camera.reference_depth or 2.2)
 
 
+def pixels_per_metre(camera: Camera, depth: float) -> float:
+    """The image scale at `depth` (perspective), or the camera's fixed scale, pixels per metre."""
+    if camera.kind == "perspective":
+        return float(camera.focal / max(depth, 1e-3))
+    if camera.kind == "weak_perspective":
+        return float(camera.focal / (camera.reference_depth or depth))
+    return float(camera.focal)
+
+
 def root_from_head(
     camera: Camera, head_px: npt.ArrayLike, depth: float, pose: Pose | npt.ArrayLike, body: BodyModel
 ) -> npt.NDArray[np.float64]:
@@ -139,7 +148,7 @@ def root_from_head(
         hx = (u - camera.cx) * head_z / camera.focal
         hy = (v - camera.cy) * head_z / camera.focal
     else:
-        scale = camera.focal if camera.kind == "orthographic" else camera.focal / (camera.reference_depth or depth)
+        scale = pixels_per_metre(camera, depth)
         hx, hy = (u - camera.cx) / scale, (v - camera.cy) / scale
     return np.array([hx - offset[0], hy - offset[1], depth])
 
@@ -307,6 +316,7 @@ __all__ = [
     "fit_widths",
     "measure_body",
     "shoulder_span",
+    "pixels_per_metre",
     "root_from_head",
     "startup_points",
 ]
