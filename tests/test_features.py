@@ -150,6 +150,28 @@ def test_static_skin_coloured_object_gives_no_blob(plate) -> None:
     assert all(not (480 <= b.centroid[0] <= 620 and 20 <= b.centroid[1] <= 140) for b in features.blobs)
 
 
+def test_moving_hand_leaves_no_skin_trail_over_skin_coloured_room(plate) -> None:
+    # A hand moving over a wooden panel: where it was a frame before, I_motion fires on
+    # skin-coloured room that is back to the plate's colour; that trail is not skin.
+    scene_plate = plate.copy()
+    scene_plate[200:320, 380:600] = (110, 140, 200)  # R - G = 60, like skin
+    rng = np.random.default_rng(6)
+
+    def frame_with_hand(x: int) -> np.ndarray:
+        frame = scene_plate.copy()
+        cv2.ellipse(frame, (x, 260), (24, 14), 0, 0, 360, (60, 90, 150), -1)  # dark skin
+        return np.clip(frame + rng.normal(0, 2, frame.shape), 0, 255).astype(np.uint8)
+
+    was, now = np.zeros((480, 640), np.uint8), np.zeros((480, 640), np.uint8)
+    cv2.ellipse(was, (440, 260), (24, 14), 0, 0, 360, 255, -1)
+    cv2.ellipse(now, (530, 260), (24, 14), 0, 0, 360, 255, -1)
+    features = compute_features(frame_with_hand(530), Background.from_plate(scene_plate), frame_with_hand(440))
+    assert features.motion[was > 0].mean() > 200 and features.skin0[was > 0].mean() > 200
+    assert not features.skin[was > 0].any()
+    assert features.skin[now > 0].mean() > 200
+    assert [round(b.centroid[0]) for b in features.blobs] == [530]
+
+
 def test_skin_blob_on_background_without_edge_change_is_dropped(plate) -> None:
     # A skin-coloured patch that appears in the frame but has no texture change relative to
     # the plate's gradient is dropped by the gradient probability, not by size (with the

@@ -9,11 +9,12 @@ import numpy as np
 import pytest
 
 import upperpose
-from tracker_helpers import TruthFitter, camera_of, clip, truth
+from tracker_helpers import PART_ANGLES, TruthFitter, camera_of, clip, truth
+from upperpose.features.faces import FaceDetector
 from upperpose.features.packing import pack_rows
 from upperpose.features.points import SkinPoint
 from upperpose.tracker import INITIALISING, LOST, NO_PERSON, TRACKED, StateMachine, StaticFit, Tracker, TrackerConfig
-from upperpose.tracker.recovery import HandFollower, LostDetector, unexplained_by_side
+from upperpose.tracker.recovery import DoubtDetector, HandFollower, LostDetector, unexplained_by_side
 from upperpose.tracker.root import RootEstimator
 from upperpose.tracker.startup import check_apose, depth_from_face, fit_widths, root_from_head
 from upperpose.tracker.video import VideoReader
@@ -148,6 +149,26 @@ def test_lost_detector_counts_misses_and_pauses_without_evidence() -> None:
     assert lost == {"right_arm": False, "left_arm": True}
 
 
+def test_doubt_detector_needs_a_run_of_frames_off_the_evidence() -> None:
+    doubt = DoubtDetector(share=0.35, frames=3)
+    joints = np.array([[320, 100], [270, 170], [370, 170], [250, 250], [390, 250], [240, 330], [400, 330]], float)
+    off = {"right_arm": 50.0, "left_arm": 20.0}  # shoulder width 100 px: 0.5 and 0.2 of it
+    for _ in range(2):
+        doubt.update(joints, off)
+    assert doubt.take_doubted([]) == []
+    doubt.update(joints, {"right_arm": None, "left_arm": 20.0})  # no evidence breaks the run
+    for _ in range(2):
+        doubt.update(joints, off)
+    assert doubt.take_doubted([]) == []
+    doubt.update(joints, off)
+    assert doubt.take_doubted(["right_arm"]) == []  # lost: searched over its ranges anyway
+    assert doubt.take_doubted([]) == ["right_arm"]
+    assert doubt.take_doubted([]) == []  # one search, then the count starts again
+    for _ in range(3):
+        doubt.update(joints, {"right_arm": 50.0, "left_arm": 50.0})
+    assert DoubtDetector(frames=0).take_doubted([]) == [] and doubt.take_doubted([]) == ["right_arm", "left_arm"]
+
+
 def test_unexplained_silhouette_by_side() -> None:
     labels = np.zeros((240, 320), np.uint8)
     labels[60:200, 130:190] = 1  # the model: a torso
@@ -270,11 +291,12 @@ def test_recovery_after_a_forced_loss(gt: dict) -> None:
 
 
 def test_real_loss_is_detected_and_recovered(gt: dict) -> None:
-    # The search double puts the right arm overhead on frames 36-39 while the hand is down:
-    # the lost detector must fire, the arm be searched over its ranges and found again.
-    fitter = TruthFitter(gt, wrong=range(36, 44))
+    # The search double puts the right arm overhead whenever it is searched on frames 36-47
+    # (the motion flags decide which those are) while the hand is down: the lost detector must
+    # fire, the arm be searched over its ranges and found again.
+    fitter = TruthFitter(gt, wrong=range(36, 48))
     statuses = run_clip(fitter)
-    assert LOST in statuses[36:46]
+    assert LOST in statuses[36:48]
     lost_at = statuses.index(LOST, 36)
     assert any(c[0] >= lost_at and c[1] == "initial" and c[2] == ("right_arm",) for c in fitter.calls)
     assert statuses[-1] == TRACKED
@@ -312,6 +334,69 @@ def test_a_lost_arm_compares_both_fits_in_the_same_regions(gt: dict, fair: bool)
             raised.append(pose is not None and pose[5] == 2.8)
     assert ((40, "initial", ()) in fitter.calls) == fair  # the trajectory fit rescored
     assert any(raised[40:]) != fair
+
+
+class StuckElbowFitter(TruthFitter):
+    """The search double with a stuck right elbow: on `wrong` frames its trajectory search
+    bends the right elbow 0.7 rad more than the truth (the hand off its blob by less than the
+    lost threshold). Every pose costs 0.5 plus its distance from the truth, so a full-range
+    search, which finds the truth, wins a comparison. Keeps each call's prediction."""
+
+    def __init__(self, gt: dict, wrong: range) -> None:
+        super().__init__(gt, wrong)
+        self.predictions: dict[int, np.ndarray] = {}
+
+    def __call__(self, features: object, prediction: object, root: object, body: object, camera: object, **kw: object):  # type: ignore[no-untyped-def]
+        index, mode = kw["frame_index"], kw["mode"]
+        if mode == "trajectory":
+            self.predictions[index] = np.array(prediction)  # type: ignore[arg-type]
+        fit = super().__call__(features, prediction, root, body, camera, **kw)
+        pose = np.array(fit.pose)
+        true = self.frames[index]["angles"]  # type: ignore[index]
+        if mode == "trajectory" and index in self.wrong and "right_arm" in kw["search"]:  # type: ignore[operator]
+            pose[PART_ANGLES["right_arm"]] = true[3:8]
+            pose[6] += 0.7  # right_x_down
+        cost = 0.5 + (float(np.abs(pose - true).sum()) if true is not None else 0.0)
+        joints = upperpose.forward_kinematics(pose, fit.root, body)
+        return StaticFit(pose, fit.root, joints, upperpose.project(camera, joints), cost)
+
+
+@pytest.mark.parametrize("doubt_frames", [3, 0])
+def test_an_arm_that_stays_off_its_hand_blob_is_searched_over_its_ranges(gt: dict, doubt_frames: int) -> None:
+    fitter = StuckElbowFitter(gt, wrong=range(30, 50))
+    folder = clip()
+    plate = cv2.imread(str(folder / "background.png"))
+    tracker = Tracker(camera_of(folder), plate, TrackerConfig(doubt_frames=doubt_frames), fps=15.0, fitter=fitter)
+    with VideoReader(folder / "video.mp4") as reader:
+        results = [tracker.update(frame) for frame in reader]
+    assert LOST not in [r.status for r in results]  # off its blob, but not lost
+    wide = [c[0] for c in fitter.calls if c[1] == "initial" and c[2] == ("right_arm",)]
+    assert bool(wide) == (doubt_frames > 0)
+    for k in wide:
+        # the full-range fit is taken, and the next frame does not extrapolate the correction
+        assert np.allclose(results[k].pose[3:8], gt["frames"][k]["angles"][3:8])
+        if k + 1 in fitter.predictions:
+            assert np.allclose(fitter.predictions[k + 1][3:8], results[k].pose[3:8])
+
+
+def test_start_up_waits_while_the_face_moves() -> None:
+    # The clip's person stands in the A-pose; a face box that jumps 0.6 of its width every
+    # frame is a person still walking: no start-up.
+    folder = clip()
+    plate = cv2.imread(str(folder / "background.png"))
+    detect = FaceDetector()
+    count = [0]
+
+    def jumping(frame: np.ndarray) -> list:
+        count[0] += 1
+        shift = 0.3 if count[0] % 2 else -0.3
+        return [(int(x + shift * w), y, w, h) for x, y, w, h in detect(frame)]
+
+    fitter = TruthFitter(truth(folder))
+    tracker = Tracker(camera_of(folder), plate, TrackerConfig(), fps=15.0, fitter=fitter, face_detector=jumping)
+    with VideoReader(folder / "video.mp4") as reader:
+        statuses = [tracker.update(frame).status for frame in reader]
+    assert INITIALISING in statuses and TRACKED not in statuses
 
 
 def test_track_video_streams_one_result_per_frame(gt: dict) -> None:

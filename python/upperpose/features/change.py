@@ -41,4 +41,17 @@ def colour_change(
     return cv2.compare(grey, 0, cv2.CMP_GT, dst=out) if out is not None else cv2.compare(grey, 0, cv2.CMP_GT)
 
 
-__all__ = ["colour_change"]
+def plate_distance(frame: Frame, plate: Frame, diff: Frame, out: Mask) -> Mask:
+    """Grey of |frame - plate| per pixel (a weighted mean of the B, G, R differences) into `out`.
+
+    Args:
+        frame: `(H, W, 3)` uint8 BGR.
+        plate: `(H, W, 3)` uint8 BGR of the same size.
+        diff: `(H, W, 3)` uint8 scratch array.
+        out: `(H, W)` uint8 result.
+    """
+    cv2.absdiff(frame, plate, dst=diff)
+    return cv2.cvtColor(diff, cv2.COLOR_BGR2GRAY, dst=out)
+
+
+__all__ = ["colour_change", "plate_distance"]

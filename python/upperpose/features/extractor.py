@@ -10,7 +10,7 @@ import numpy.typing as npt
 
 from upperpose.features.background import Background, Int16Image, square
 from upperpose.features.blobs import find_skin_blobs
-from upperpose.features.change import colour_change
+from upperpose.features.change import colour_change, plate_distance
 from upperpose.features.checks import Frame, Mask, check_frame, check_mask
 from upperpose.features.config import FeatureConfig
 from upperpose.features.exposure import GREY_WEIGHTS, ExposureMeter, needs_compensation
@@ -73,6 +73,8 @@ class _Work:
         self.plate_dx = np.empty(shape, np.int16)
         self.plate_dy = np.empty(shape, np.int16)
         self.greys = [np.empty(shape, np.uint8), np.empty(shape, np.uint8)]
+        # Distance to the plate of this frame and the previous one (indexed like `greys`).
+        self.distances = [np.empty(shape, np.uint8), np.empty(shape, np.uint8)]
         self.int16 = [np.empty(shape, np.int16) for _ in range(5)]
         self.tmp = np.empty(shape, np.uint8)
         self.allowed = np.empty(shape, np.uint8)
@@ -91,8 +93,8 @@ def _joints_array(joints: npt.ArrayLike | None) -> npt.NDArray[np.float64] | Non
 class FeatureExtractor:
     """Computes `FrameFeatures` frame after frame against one background.
 
-    Keeps the previous frame's grey image for I_motion (the first frame has no motion) and
-    scratch arrays reused between frames.
+    Keeps the previous frame's grey image for I_motion (the first frame has no motion) and its
+    distance to the plate, and scratch arrays reused between frames.
 
     Args:
         background: the background model (its derived images are recomputed if it was made
@@ -143,6 +145,14 @@ class FeatureExtractor:
             cv2.cvtColor(frame, cv2.COLOR_BGR2GRAY, dst=grey)
         return grey
 
+    def _distance(self, frame: Frame, plate: Frame) -> Mask:
+        """Distance of `frame` to the plate, into the current distance buffer.
+
+        The other buffer keeps the previous frame's.
+        """
+        work = self._work
+        return plate_distance(frame, plate, work.change[0], work.distances[self._current])
+
     def _plate_for(self, frame: Frame) -> tuple[Frame, Int16Image, Int16Image, Frame]:
         """Plate, its derivatives and frame, brought to the same light when the light changed.
 
@@ -168,7 +178,9 @@ class FeatureExtractor:
         Raises:
             ValueError: see `__call__`.
         """
-        self._grey(check_frame(previous, "previous", self.background.size))
+        previous = check_frame(previous, "previous", self.background.size)
+        self._grey(previous)
+        self._distance(previous, self._plate_for(previous)[0])
         self._has_previous = True
 
     def __call__(
@@ -232,10 +244,17 @@ class FeatureExtractor:
             motion.fill(0)
         self._has_previous = True
         clock.lap("motion")
-        # I_skin = I_skin0 & (~background skin | I_motion | I_sub), opened; I_skin0 on the frame
-        # in the plate's light.
+        # I_skin = I_skin0 & (~background skin | I_motion & ~trail | I_sub), opened; I_skin0 on
+        # the frame in the plate's light. A trail: the pixel differed from the plate a frame
+        # before and came back towards it, a moving part uncovered the room; skin-coloured room
+        # there is not skin.
         skin0 = skin_mask(relit, cfg, work.skin, out["skin0"])
-        cv2.bitwise_or(self._not_background_skin, motion, dst=work.allowed)
+        distance, before = self._distance(frame, plate), work.distances[self._current ^ 1]
+        cv2.compare(distance, before, cv2.CMP_GE, dst=work.allowed)
+        cv2.compare(before, cfg.sub_threshold, cv2.CMP_LE, dst=work.tmp)
+        cv2.bitwise_or(work.allowed, work.tmp, dst=work.allowed)
+        cv2.bitwise_and(work.allowed, motion, dst=work.allowed)
+        cv2.bitwise_or(self._not_background_skin, work.allowed, dst=work.allowed)
         cv2.bitwise_or(work.allowed, sub, dst=work.allowed)
         cv2.bitwise_and(skin0, work.allowed, dst=work.tmp)
         skin = _morph(work.tmp, cv2.MORPH_OPEN, cfg.skin_open, out["skin"])

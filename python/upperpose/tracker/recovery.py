@@ -109,6 +109,42 @@ class LostDetector:
         self.lost = dict.fromkeys(ARMS, False)
 
 
+@dataclass
+class DoubtDetector:
+    """Arms whose fitted hand stays off its skin evidence, though not far enough to be lost.
+
+    An arm is *doubted* after `frames` frames in a row with its hand farther than `share`
+    shoulder widths from its skin evidence (`hand_distances`; a frame without evidence breaks
+    the run). A doubted arm gets one search over its anatomical ranges (`take_doubted`), then
+    its count starts again. `frames` 0 turns this off.
+    """
+
+    share: float = 0.35
+    frames: int = 3
+    counts: dict[str, int] = field(default_factory=lambda: dict.fromkeys(ARMS, 0))
+
+    def update(self, joints_2d: npt.NDArray[np.float64], distances: dict[str, float | None]) -> None:
+        """Feeds one fitted frame (`joints_2d` for the shoulder width, as `LostDetector.update`)."""
+        limit = self.share * max(float(np.hypot(*(joints_2d[1] - joints_2d[2]))), 10.0)
+        for arm in ARMS:
+            distance = distances.get(arm)
+            far = distance is not None and np.isfinite(distance) and distance > limit
+            self.counts[arm] = self.counts[arm] + 1 if far else 0
+
+    def take_doubted(self, skip: list[str]) -> list[str]:
+        """The doubted arms not in `skip` (lost arms are searched anyway); their counts restart."""
+        if self.frames <= 0:
+            return []
+        doubted = [arm for arm in ARMS if arm not in skip and self.counts[arm] >= self.frames]
+        for arm in doubted:
+            self.counts[arm] = 0
+        return doubted
+
+    def reset(self) -> None:
+        """Forgets everything (a new person)."""
+        self.counts = dict.fromkeys(ARMS, 0)
+
+
 def unexplained_by_side(
     silhouette: npt.NDArray[np.uint8], labels: npt.NDArray[np.uint8], neck_x: float, margin: int = 15
 ) -> dict[str, int]:
@@ -171,4 +207,13 @@ class HandFollower:
         self.windows.clear()
 
 
-__all__ = ["ARMS", "HAND_JOINT", "HAND_POINT", "HandFollower", "LostDetector", "hand_distances", "unexplained_by_side"]
+__all__ = [
+    "ARMS",
+    "HAND_JOINT",
+    "HAND_POINT",
+    "DoubtDetector",
+    "HandFollower",
+    "LostDetector",
+    "hand_distances",
+    "unexplained_by_side",
+]

@@ -26,6 +26,7 @@ from upperpose.tracker.recovery import (
     ARMS,
     HAND_JOINT,
     HAND_POINT,
+    DoubtDetector,
     HandFollower,
     LostDetector,
     hand_distances,
@@ -136,6 +137,11 @@ class TrackerConfig:
         fair_recovery: a lost arm's full-range fit replaces the trajectory fit only when it
             costs less in the same image regions (a stage's cost depends on its region: the
             Sil term counts every mismatch inside it, and the full-range regions are larger).
+        doubt_share, doubt_frames: an arm whose fitted hand has been farther than `doubt_share`
+            shoulder widths from its skin evidence for `doubt_frames` frames in a row (short of
+            lost) is searched once over its anatomical ranges, like a lost arm; that fit is
+            taken when it costs less and its hand lies nearer the skin point. `doubt_frames` 0
+            turns this off.
     """
 
     particles: int | None = None
@@ -163,6 +169,8 @@ class TrackerConfig:
     startup_frontal: bool = False
     velocity_window_gain: float = 0.5
     fair_recovery: bool = True
+    doubt_share: float = 0.35
+    doubt_frames: int = 3
     search_options: dict[str, Any] = field(default_factory=dict)
 
     def search_config(self) -> Any:
@@ -236,6 +244,17 @@ class TrackResult:
         }
 
 
+def _nearer_hand_point(features: FrameFeatures, new: FitLike, old: FitLike, arm: str) -> bool:
+    """Whether `new` puts the arm's hand nearer its matched (unmerged) skin point than `old`."""
+    point = features.points[HAND_POINT[arm]]
+    if point is None or point.merged:
+        return False
+    xy = np.asarray(point.xy)
+    joint = HAND_JOINT[arm]
+    gap = [float(np.hypot(*(xy - np.asarray(f.joints_2d)[joint]))) for f in (new, old)]
+    return gap[0] < gap[1]
+
+
 def _limit_hull(preset: str) -> tuple[FloatArray, FloatArray]:
     limits = joint_limits(preset)
     low = np.array([min(a for a, _ in intervals) for intervals in limits])
@@ -307,6 +326,7 @@ class Tracker:
         )
         self.state = StateMachine(confirm_frames=cfg.confirm_frames, leave_frames=cfg.leave_frames)
         self._lost = LostDetector(cfg.lost_threshold, cfg.lost_frames)
+        self._doubt = DoubtDetector(cfg.doubt_share, cfg.doubt_frames)
         self._follow = HandFollower()
         self._frame = 0
         self._last_time: float | None = None
@@ -382,7 +402,9 @@ class Tracker:
             self._face_widths = ([*self._face_widths, float(face[2])] if stable else [float(face[2])])[-10:]
             points = startup_points(face, features.blobs, self._extract.config)
             check = check_apose(points, face[2])
-            passed = check.passed or self._face_streak >= self.config.face_only_frames
+            # Not while the face moves half its width a frame: a person walking in is measured
+            # mid-stride.
+            passed = bool(stable) and (check.passed or self._face_streak >= self.config.face_only_frames)
             if not check.passed:
                 points[1:] = np.nan  # face-only start-up: average arms
         else:
@@ -447,6 +469,8 @@ class Tracker:
         self._pose = Pose.a_pose().angles.copy()
         self._previous_pose = self._pose.copy()
         self._lost.reset()
+        self._doubt.reset()
+        self._corrected = ()
         self._follow.reset()
         return fit
 
@@ -491,9 +515,11 @@ class Tracker:
             )
         else:
             fit = self._static_fit(prediction, root)
-        if lost:
+        doubted = self._doubt.take_doubted(lost)
+        self._corrected = ()
+        if lost or doubted:
             wide = self._fit(
-                features, np.asarray(fit.pose), np.asarray(fit.root), "initial", tuple(lost), index, interval
+                features, np.asarray(fit.pose), np.asarray(fit.root), "initial", tuple(lost + doubted), index, interval
             )
             # A stage's cost depends on its region (Sil counts every mismatch inside it, Ratio
             # the silhouette there), and the wide search's regions are larger (everything the
@@ -503,8 +529,11 @@ class Tracker:
                 narrow_cost = float(same.cost)
             else:
                 narrow_cost = float(fit.cost)
-            if float(wide.cost) < narrow_cost:
+            # A doubted arm's new pose must also bring its hand nearer its skin point: a lower
+            # cost alone took pointing arms (07) off to wrong minima.
+            if float(wide.cost) < narrow_cost and all(_nearer_hand_point(features, wide, fit, a) for a in doubted):
                 fit = wide
+                self._corrected = tuple(lost + doubted)
         t2 = time.perf_counter()
         searched = trajectory
         result = self._accept(fit, features, index, searched, {"features": t1 - t0, "search": t2 - t1})
@@ -599,7 +628,9 @@ class Tracker:
         # not a misplaced arm: no evidence.
         global_change = min(excess) > 3.0
         missing = {arm: not global_change and excess[k] > self.config.unexplained_share for k, arm in enumerate(ARMS)}
-        lost = self._lost.update(joints_2d, hand_distances(joints_2d, features), missing)
+        distances = hand_distances(joints_2d, features)
+        lost = self._lost.update(joints_2d, distances, missing)
+        self._doubt.update(joints_2d, distances)
         self._recovered = any(was_lost[a] and not lost[a] for a in ARMS)
         shoulder_px = float(np.hypot(*(joints_2d[1] - joints_2d[2])))
         for arm in ARMS:
@@ -622,6 +653,8 @@ class Tracker:
             self._reset_person()
             return TrackResult(index, NO_PERSON, searched=searched, timings=timings)
         self._previous_pose, self._pose = self._pose, pose
+        for arm in self._corrected:  # a correction is no motion: no velocity to extrapolate
+            self._previous_pose[PART_ANGLES[arm]] = pose[PART_ANGLES[arm]]
         self._last_root, self._labels = root, labels
         self._last_joints, self._last_cost = joints_2d, float(fit.cost)
         return TrackResult(
@@ -665,6 +698,8 @@ class Tracker:
         self._face_widths = []
         self._last_face = None
         self._lost.reset()
+        self._doubt.reset()
+        self._corrected = ()
         self._follow.reset()
 
 

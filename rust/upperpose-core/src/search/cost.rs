@@ -37,7 +37,7 @@ impl Default for CostWeights {
             sil: 12.0,
             edge: 2.0,
             motion: 0.5,
-            skin: 1.5,
+            skin: 3.0,
             arm: 0.0,
             ratio: 0.5,
         }
