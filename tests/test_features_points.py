@@ -64,6 +64,25 @@ def test_hand_near_face_but_separate_is_not_merged() -> None:
     assert np.hypot(left.xy[0] - 372, left.xy[1] - 112) < 3
 
 
+def test_a_hand_on_the_face_takes_no_scrap_of_skin() -> None:
+    # Left hand on the face (one blob) and a scrap of hair-coloured skin above the face, 81 px:
+    # under a tenth of a hand (shoulders 100 px apart: 100 px). Without the floor the hand took
+    # the scrap and neither was reported merged.
+    def hand(s):
+        return cv2.circle(s, (342, 118), 14, 255, -1)
+
+    def scrap(s):
+        return cv2.circle(s, (352, 58), 5, 255, -1)
+
+    blobs = blobs_of(face, hand, scrap, lambda s: cv2.circle(s, (200, 300), 14, 255, -1))
+    prediction = joints((320, 100), (200, 300), (345, 105))
+    head, _, left = locate_points(blobs, prediction, CONFIG)
+    assert left.merged and head.merged and left.blob == head.blob
+    assert blobs[head.blob].area > 1000
+    _, _, left = locate_points(blobs, prediction, FeatureConfig(part_min_share=0.0))
+    assert not left.merged and blobs[left.blob].area < 100
+
+
 def test_far_end_of_a_forearm_blob() -> None:
     # Bare forearm from (200, 250) to (140, 370) ending in the hand: the point is near the hand.
     def forearm(s):

@@ -367,8 +367,12 @@ def test_an_arm_that_stays_off_its_hand_blob_is_searched_over_its_ranges(gt: dic
     folder = clip()
     plate = cv2.imread(str(folder / "background.png"))
     tracker = Tracker(camera_of(folder), plate, TrackerConfig(doubt_frames=doubt_frames), fps=15.0, fitter=fitter)
+    results, poses = [], []
     with VideoReader(folder / "video.mp4") as reader:
-        results = [tracker.update(frame) for frame in reader]
+        for frame in reader:
+            results.append(tracker.update(frame))
+            poses.append(None if results[-1].pose is None else results[-1].pose.copy())
+    assert all(p is None or np.array_equal(p, r.pose) for p, r in zip(poses, results))  # results stay as given
     assert LOST not in [r.status for r in results]  # off its blob, but not lost
     wide = [c[0] for c in fitter.calls if c[1] == "initial" and c[2] == ("right_arm",)]
     assert bool(wide) == (doubt_frames > 0)

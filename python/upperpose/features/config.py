@@ -166,6 +166,12 @@ class FeatureConfig:
     face, a model hand still on the face must not take the face's blob and push the head onto
     the hand's."""
 
+    part_min_share: float = 0.1
+    """Hand and head matching: no part takes a blob smaller than this share of the part's
+    expected area (`points.PART_AREAS`, from the predicted shoulder width). Smaller blobs near
+    the face are scraps of it or of the hair: with a hand on the face, the hand took one and was
+    not reported merged (04, 09: points 35-50 px off), and kept from it, the head took one."""
+
     hand_length: float = 0.5
     """Hand point: the point is the centroid of the last `hand_length` shoulder widths of
     the blob along the forearm (the hand, with fingers), so that a blob that also covers
@@ -318,6 +324,7 @@ class FeatureConfig:
             "blob_ring",
             "blob_min_changed",
             "blob_min_room_outline",
+            "part_min_share",
         ):
             if getattr(self, name) < 0:
                 raise ValueError(f"{name} must be >= 0, got {getattr(self, name)}")

@@ -27,6 +27,9 @@ from upperpose.features.blobs import SkinBlob
 from upperpose.features.config import FeatureConfig
 
 POINT_NAMES = ("head", "right_hand", "left_hand")
+# Head (face, with or without the hair) and hand areas in squared shoulder widths: a head about
+# 0.4 x 0.6 of a shoulder width, an ellipse; a hand with fingers about 0.5 x 0.2.
+PART_AREAS = (0.2, 0.1, 0.1)
 # Indices into JOINT_NAMES.
 HEAD, RIGHT_SHOULDER, LEFT_SHOULDER, RIGHT_ELBOW, LEFT_ELBOW, RIGHT_HAND, LEFT_HAND = range(7)
 
@@ -100,10 +103,12 @@ def assign(
     targets: list[npt.NDArray[np.float64] | None],
     gate: float,
     weights: list[float] | None = None,
+    min_areas: list[float] | None = None,
 ) -> tuple[list[int | None], list[bool]]:
     """Matches each target position to a distinct blob within `gate`, minimising total distance.
 
-    Each target's distance is weighed by `weights` (default 1).
+    Each target's distance is weighed by `weights` (default 1); a target only takes blobs of at
+    least its `min_areas` pixels (default any).
 
     A target left without a blob while some blob is within its gate shares the nearest such
     blob with the target that holds it: both are marked merged.
@@ -112,12 +117,12 @@ def assign(
         (blob index or None per target, merged flag per target).
     """
     candidates: list[list[tuple[int, float]]] = []
-    for target in targets:
+    for target, min_area in zip(targets, min_areas or [0.0] * len(targets)):
         near = []
         if target is not None and np.all(np.isfinite(target)):
             for i, blob in enumerate(blobs):
                 d = blob.distance_to(target)
-                if d <= gate:
+                if d <= gate and blob.area >= min_area:
                     near.append((i, d))
         candidates.append(sorted(near, key=lambda c: c[1]))
     best: tuple[float, tuple[int | None, ...]] = (math.inf, (None,) * len(targets))
@@ -198,12 +203,23 @@ def point_weights(config: FeatureConfig) -> list[float]:
     return [config.head_priority, 1.0, 1.0]
 
 
+def point_min_areas(config: FeatureConfig, shoulder_px: float) -> list[float]:
+    """Smallest blob in pixels the head and each hand may take (`part_min_share`)."""
+    return [config.part_min_share * area * shoulder_px**2 for area in PART_AREAS]
+
+
 def points_with_prediction(
     blobs: list[SkinBlob], joints: npt.NDArray[np.float64], config: FeatureConfig
 ) -> list[SkinPoint | None]:
     """Head, right hand and left hand from the blobs, given predicted 2D joints (JOINT_NAMES order)."""
     shoulder_px = shoulder_width(joints, config)
-    matched, merged = assign(blobs, point_targets(joints), config.hand_gate * shoulder_px, point_weights(config))
+    matched, merged = assign(
+        blobs,
+        point_targets(joints),
+        config.hand_gate * shoulder_px,
+        point_weights(config),
+        point_min_areas(config, shoulder_px),
+    )
     neck = 0.5 * (joints[RIGHT_SHOULDER] + joints[LEFT_SHOULDER])
     directions = [
         unit(joints[HEAD] - neck),

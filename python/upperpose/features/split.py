@@ -19,7 +19,7 @@ import numpy.typing as npt
 from upperpose.features.blobs import SkinBlob, blob_from_pixels
 from upperpose.features.checks import Frame, Mask
 from upperpose.features.config import FeatureConfig
-from upperpose.features.points import assign, point_targets, point_weights, shoulder_width
+from upperpose.features.points import assign, point_min_areas, point_targets, point_weights, shoulder_width
 
 # Smallest colour sample around a predicted part, pixels (when the part lies off the blob).
 _MIN_SAMPLE = 10
@@ -138,8 +138,9 @@ def split_head_from_hands(
     if not all(t is not None and np.all(np.isfinite(t)) for t in targets):
         return blobs
     blobs = list(blobs)
-    gate = config.hand_gate * shoulder_px
-    matched, merged = assign(blobs, targets, gate, point_weights(config))
+    gate, weights = config.hand_gate * shoulder_px, point_weights(config)
+    min_areas = point_min_areas(config, shoulder_px)
+    matched, merged = assign(blobs, targets, gate, weights, min_areas)
     for hand in (1, 2):
         shared = matched[0]
         if shared is None or not merged[0] or matched[hand] != shared:
@@ -149,6 +150,6 @@ def split_head_from_hands(
         )
         if pieces is not None:
             blobs[shared : shared + 1] = pieces
-            matched, merged = assign(blobs, targets, gate, point_weights(config))
+            matched, merged = assign(blobs, targets, gate, weights, min_areas)
     blobs.sort(key=lambda b: -b.area)
     return blobs

@@ -652,9 +652,10 @@ class Tracker:
         if status_now == NO_PERSON:
             self._reset_person()
             return TrackResult(index, NO_PERSON, searched=searched, timings=timings)
-        self._previous_pose, self._pose = self._pose, pose
+        previous = self._pose.copy() if self._corrected else self._pose  # last frame's result keeps its own
         for arm in self._corrected:  # a correction is no motion: no velocity to extrapolate
-            self._previous_pose[PART_ANGLES[arm]] = pose[PART_ANGLES[arm]]
+            previous[PART_ANGLES[arm]] = pose[PART_ANGLES[arm]]
+        self._previous_pose, self._pose = previous, pose
         self._last_root, self._labels = root, labels
         self._last_joints, self._last_cost = joints_2d, float(fit.cost)
         return TrackResult(
