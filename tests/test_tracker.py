@@ -379,6 +379,7 @@ def test_an_arm_that_stays_off_its_hand_blob_is_searched_over_its_ranges(gt: dic
     for k in wide:
         # the full-range fit is taken, and the next frame does not extrapolate the correction
         assert np.allclose(results[k].pose[3:8], gt["frames"][k]["angles"][3:8])
+        assert "right_arm" in results[k].searched
         if k + 1 in fitter.predictions:
             assert np.allclose(fitter.predictions[k + 1][3:8], results[k].pose[3:8])
 

@@ -535,7 +535,7 @@ class Tracker:
                 fit = wide
                 self._corrected = tuple(lost + doubted)
         t2 = time.perf_counter()
-        searched = trajectory
+        searched = tuple(p for p in PARTS if p in trajectory or p in doubted)
         result = self._accept(fit, features, index, searched, {"features": t1 - t0, "search": t2 - t1})
         result.timings["other"] = time.perf_counter() - t2
         return result
