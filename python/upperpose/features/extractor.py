@@ -273,10 +273,11 @@ class FeatureExtractor:
         # P_SB counts edges within a pixel of the blob: its outline edges lie in a band that the
         # skin mask, shrunk by colour blending and its opening, often stops just short of.
         blobs = find_skin_blobs(skin, edge_dilated, cfg, sub)
+        matching = None
         if joints is not None:
-            blobs = split_head_from_hands(blobs, relit, joints, cfg)
+            blobs, matching = split_head_from_hands(blobs, relit, joints, cfg)
         clock.lap("blobs")
-        head, right_hand, left_hand = locate_points(blobs, joints, cfg)
+        head, right_hand, left_hand = locate_points(blobs, joints, cfg, matching)
         clock.lap("points")
         flags = motion_flags(motion, labels, cfg) if labels is not None else None
         clock.lap("motion_flags")

@@ -27,6 +27,8 @@ from upperpose.features.blobs import SkinBlob
 from upperpose.features.config import FeatureConfig
 
 POINT_NAMES = ("head", "right_hand", "left_hand")
+# What `assign` returns: blob index or None per part, merged flag per part.
+Matching = tuple[list[int | None], list[bool]]
 # Head (face, with or without the hair) and hand areas in squared shoulder widths: a head about
 # 0.4 x 0.6 of a shoulder width, an ellipse; a hand with fingers about 0.5 x 0.2.
 PART_AREAS = (0.2, 0.1, 0.1)
@@ -104,7 +106,7 @@ def assign(
     gate: float,
     weights: list[float] | None = None,
     min_areas: list[float] | None = None,
-) -> tuple[list[int | None], list[bool]]:
+) -> Matching:
     """Matches each target position to a distinct blob within `gate`, minimising total distance.
 
     Each target's distance is weighed by `weights` (default 1); a target only takes blobs of at
@@ -208,18 +210,25 @@ def point_min_areas(config: FeatureConfig, shoulder_px: float) -> list[float]:
     return [config.part_min_share * area * shoulder_px**2 for area in PART_AREAS]
 
 
-def points_with_prediction(
-    blobs: list[SkinBlob], joints: npt.NDArray[np.float64], config: FeatureConfig
-) -> list[SkinPoint | None]:
-    """Head, right hand and left hand from the blobs, given predicted 2D joints (JOINT_NAMES order)."""
+def match_points(blobs: list[SkinBlob], joints: npt.NDArray[np.float64], config: FeatureConfig) -> Matching:
+    """Head, right hand and left hand matched to the blobs (`assign`) around predicted 2D joints."""
     shoulder_px = shoulder_width(joints, config)
-    matched, merged = assign(
-        blobs,
-        point_targets(joints),
-        config.hand_gate * shoulder_px,
-        point_weights(config),
-        point_min_areas(config, shoulder_px),
-    )
+    gate = config.hand_gate * shoulder_px
+    return assign(blobs, point_targets(joints), gate, point_weights(config), point_min_areas(config, shoulder_px))
+
+
+def points_with_prediction(
+    blobs: list[SkinBlob],
+    joints: npt.NDArray[np.float64],
+    config: FeatureConfig,
+    matching: Matching | None = None,
+) -> list[SkinPoint | None]:
+    """Head, right hand and left hand from the blobs, given predicted 2D joints (JOINT_NAMES order).
+
+    `matching`: `match_points` of these blobs and joints, when the caller has it already.
+    """
+    shoulder_px = shoulder_width(joints, config)
+    matched, merged = matching if matching is not None else match_points(blobs, joints, config)
     neck = 0.5 * (joints[RIGHT_SHOULDER] + joints[LEFT_SHOULDER])
     directions = [
         unit(joints[HEAD] - neck),
@@ -279,7 +288,10 @@ def points_at_startup(blobs: list[SkinBlob], config: FeatureConfig) -> list[Skin
 
 
 def locate_points(
-    blobs: list[SkinBlob], joints: npt.NDArray[np.float64] | None, config: FeatureConfig
+    blobs: list[SkinBlob],
+    joints: npt.NDArray[np.float64] | None,
+    config: FeatureConfig,
+    matching: Matching | None = None,
 ) -> list[SkinPoint | None]:
     """Head, right hand and left hand (POINT_NAMES order); None where a part has no blob.
 
@@ -287,7 +299,8 @@ def locate_points(
         blobs: valid skin blobs, largest first.
         joints: `(7, 2)` predicted joints in pixels (JOINT_NAMES order), or None at start-up.
         config: gates and lengths.
+        matching: `match_points(blobs, joints, config)` when already computed (the split's).
     """
     if joints is None:
         return points_at_startup(blobs, config)
-    return points_with_prediction(blobs, joints, config)
+    return points_with_prediction(blobs, joints, config, matching)

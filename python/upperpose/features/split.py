@@ -19,7 +19,7 @@ import numpy.typing as npt
 from upperpose.features.blobs import SkinBlob, blob_from_pixels
 from upperpose.features.checks import Frame, Mask
 from upperpose.features.config import FeatureConfig
-from upperpose.features.points import assign, point_min_areas, point_targets, point_weights, shoulder_width
+from upperpose.features.points import Matching, match_points, point_targets, shoulder_width
 
 # Smallest colour sample around a predicted part, pixels (when the part lies off the blob).
 _MIN_SAMPLE = 10
@@ -121,11 +121,12 @@ def hull_overlap(a: SkinBlob, b: SkinBlob, box: tuple[int, int, int, int]) -> in
 
 def split_head_from_hands(
     blobs: list[SkinBlob], frame: Frame, joints: npt.NDArray[np.float64], config: FeatureConfig
-) -> list[SkinBlob]:
+) -> tuple[list[SkinBlob], Matching]:
     """The blobs, with head-and-hand blobs split into their pieces where colour allows.
 
-    A blob is tried when the matcher (`assign`) would share it between the head and a hand
-    (`split_at_colour`). Returns the blobs largest first.
+    A blob is tried when the matcher (`match_points`) would share it between the head and a hand
+    (`split_at_colour`). Returns the blobs largest first and their matching, which
+    `locate_points` then need not compute again.
 
     Args:
         blobs: valid skin blobs, largest first.
@@ -133,23 +134,19 @@ def split_head_from_hands(
         joints: `(7, 2)` predicted joints in pixels (JOINT_NAMES order).
         config: the gate, colour distance and sample radius.
     """
-    shoulder_px = shoulder_width(joints, config)
+    blobs = list(blobs)
+    matched, merged = match_points(blobs, joints, config)
     targets = point_targets(joints)
     if not all(t is not None and np.all(np.isfinite(t)) for t in targets):
-        return blobs
-    blobs = list(blobs)
-    gate, weights = config.hand_gate * shoulder_px, point_weights(config)
-    min_areas = point_min_areas(config, shoulder_px)
-    matched, merged = assign(blobs, targets, gate, weights, min_areas)
+        return blobs, (matched, merged)
+    radius = config.split_sample * shoulder_width(joints, config)
     for hand in (1, 2):
         shared = matched[0]
         if shared is None or not merged[0] or matched[hand] != shared:
             continue
-        pieces = split_at_colour(
-            blobs[shared], frame, targets[0], targets[hand], config.split_sample * shoulder_px, config
-        )
+        pieces = split_at_colour(blobs[shared], frame, targets[0], targets[hand], radius, config)
         if pieces is not None:
             blobs[shared : shared + 1] = pieces
-            matched, merged = assign(blobs, targets, gate, weights, min_areas)
-    blobs.sort(key=lambda b: -b.area)
-    return blobs
+            blobs.sort(key=lambda b: -b.area)
+            matched, merged = match_points(blobs, joints, config)
+    return blobs, (matched, merged)

@@ -41,6 +41,7 @@ from upperpose.tracker.startup import (
     face_centre,
     fit_widths,
     measure_body,
+    pixels_per_metre,
     startup_points,
 )
 from upperpose.tracker.state import LOST, NO_PERSON, TRACKED, StateMachine
@@ -667,7 +668,7 @@ class Tracker:
         dims = self.body.as_dict()
         width = float(sum(dims["upper_arm_radii"]) + sum(dims["lower_arm_radii"]))  # two mean diameters
         length = float(dims["upper_arm_length"]) + float(dims["lower_arm_length"])
-        scale = self.camera.focal / max(float(root[2]), 0.1) if self.camera.kind == "perspective" else self.camera.focal
+        scale = pixels_per_metre(self.camera, float(root[2]))
         return float(0.5 * width * length * scale * scale)
 
     def _render_labels(self, pose: FloatArray, root: FloatArray) -> npt.NDArray[np.uint8]:
