@@ -16,7 +16,15 @@ from upperpose.features.points import SkinPoint
 from upperpose.tracker import INITIALISING, LOST, NO_PERSON, TRACKED, StateMachine, StaticFit, Tracker, TrackerConfig
 from upperpose.tracker.recovery import DoubtDetector, HandFollower, LostDetector, unexplained_by_side
 from upperpose.tracker.root import RootEstimator
-from upperpose.tracker.startup import check_apose, depth_from_face, fit_widths, root_from_head
+from upperpose.tracker.startup import (
+    StartupFit,
+    check_apose,
+    depth_from_face,
+    fit_bodies,
+    head_raised,
+    root_from_head,
+    widened,
+)
 from upperpose.tracker.video import VideoReader
 
 # -- pure units -------------------------------------------------------------------------------
@@ -205,32 +213,60 @@ class _Rendered:
         return self.points
 
 
+def _fit_rendered_person(
+    person: upperpose.BodyModel, candidates: list[upperpose.BodyModel], camera: upperpose.Camera, **kw: object
+) -> StartupFit:
+    """Fits candidates to a rendered A-pose `person`, each placed with its head on the person's."""
+    root = np.array([0.02, 0.12, 2.2])
+    pose = upperpose.Pose.a_pose()
+    head_px = upperpose.project(camera, upperpose.forward_kinematics(pose, root, person))[0]
+    frontal = np.ones(13)
+    frontal[0] = 0.0
+    return fit_bodies(
+        upperpose.fit_frame,
+        _Rendered(pose, root, person, camera),
+        pose.angles,
+        candidates,
+        camera,
+        lambda c: (c, root_from_head(camera, head_px, 2.2, pose, c)),
+        window_scale=3.0,
+        angle_window_scales=frontal,
+        **kw,
+    )
+
+
 @pytest.mark.parametrize("true_scale", [0.85, 1.1])
 def test_start_up_width_is_chosen_by_the_cost(true_scale: float, camera: upperpose.Camera) -> None:
     # A person in the A-pose, narrower or wider than the measured width: the fit with the
     # true width has the lowest cost, frontal (turn held at zero).
     base = upperpose.BodyModel()
-    dims = base.as_dict()
-    for key in ("shoulder_width", "torso_half_width", "torso_half_depth"):
-        dims[key] *= true_scale
-    person = upperpose.BodyModel(**dims)
-    root = np.array([0.02, 0.12, 2.2])
-    pose = upperpose.Pose.a_pose()
-    frontal = np.ones(13)
-    frontal[0] = 0.0
-    body, fit = fit_widths(
-        upperpose.fit_frame,
-        _Rendered(pose, root, person, camera),
-        pose.angles,
-        root,
-        base,
-        camera,
-        (0.8, 0.85, 0.9, 0.95, 1.0, 1.05, 1.1, 1.15),
-        window_scale=3.0,
-        angle_window_scales=frontal,
-    )
-    assert body.shoulder_width == pytest.approx(person.shoulder_width)
-    assert fit.pose[0] == 0.0
+    person = widened(base, true_scale)
+    candidates = [widened(base, k) for k in (0.8, 0.85, 0.9, 0.95, 1.0, 1.05, 1.1, 1.15)]
+    chosen = _fit_rendered_person(person, candidates, camera)
+    assert chosen.body.shoulder_width == pytest.approx(person.shoulder_width)
+    assert chosen.candidate == chosen.body
+    assert chosen.fit.pose[0] == 0.0
+
+
+@pytest.mark.parametrize("true_scale", [0.88, 1.12])
+def test_start_up_head_height_is_chosen_by_the_torso_cost(true_scale: float, camera: upperpose.Camera) -> None:
+    # The head a little lower or higher above the shoulders than the averages: with the head
+    # put on the face, only the candidate of the true height has its shoulders on the person's.
+    base = upperpose.BodyModel()
+    person = head_raised(base, true_scale)
+    assert person.head_offset - person.neck_length == pytest.approx(base.head_offset - base.neck_length)
+    candidates = [head_raised(base, k) for k in (0.8, 0.88, 0.94, 1.0, 1.06, 1.12, 1.2)]
+    chosen = _fit_rendered_person(person, candidates, camera, score=lambda fit: fit.stage_costs["torso"])
+    assert chosen.body.head_offset == pytest.approx(person.head_offset)
+
+
+def test_fit_bodies_keeps_a_better_incumbent(camera: upperpose.Camera) -> None:
+    base = upperpose.BodyModel()
+    first = _fit_rendered_person(base, [base], camera)
+    again = _fit_rendered_person(base, [head_raised(base, 1.2), widened(base, 1.2)], camera, best=first)
+    assert again is first
+    with pytest.raises(ValueError, match="candidates"):
+        _fit_rendered_person(base, [], camera)
 
 
 # -- on a rendered clip, with a search double -------------------------------------------------
@@ -314,7 +350,7 @@ class RegionBiasedFitter(TruthFitter):
         if "right_arm" in kw["search"]:  # type: ignore[operator]
             pose[3:8] = [0.0, 0.0, 2.8, 0.0, 0.0]
         joints = upperpose.forward_kinematics(pose, fit.root, body)
-        return StaticFit(pose, fit.root, joints, upperpose.project(camera, joints), fit.cost - 0.1)
+        return StaticFit(pose, fit.root, joints, upperpose.project(camera, joints), fit.cost - 0.1, fit.stage_costs)
 
 
 @pytest.mark.parametrize("fair", [True, False])
@@ -358,7 +394,7 @@ class StuckElbowFitter(TruthFitter):
             pose[6] += 0.7  # right_x_down
         cost = 0.5 + (float(np.abs(pose - true).sum()) if true is not None else 0.0)
         joints = upperpose.forward_kinematics(pose, fit.root, body)
-        return StaticFit(pose, fit.root, joints, upperpose.project(camera, joints), cost)
+        return StaticFit(pose, fit.root, joints, upperpose.project(camera, joints), cost, fit.stage_costs)
 
 
 @pytest.mark.parametrize("doubt_frames", [3, 0])

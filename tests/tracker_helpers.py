@@ -66,7 +66,7 @@ class TruthFitter:
             pose[PART_ANGLES["right_arm"]] = [0.0, 0.0, 2.8, 0.0, 0.0]
         r = np.array(root, dtype=np.float64)
         joints = upperpose.forward_kinematics(pose, r, body)
-        return StaticFit(pose, r, joints, upperpose.project(camera, joints), 0.5)
+        return StaticFit(pose, r, joints, upperpose.project(camera, joints), 0.5, {part: 0.5 / 3 for part in PARTS})
 
 
 def truth(folder: Path) -> dict[str, Any]:

@@ -227,7 +227,7 @@ def measure_body(
         measured, modelled = shoulder_span(silhouette, model, drop), shoulder_span(rendered, model, drop)
         if measured and modelled:
             k = float(np.clip(measured / modelled, low, high))
-            for key in ("shoulder_width", "torso_half_width", "torso_half_depth"):
+            for key in WIDTH_KEYS:
                 dims[key] = dims[key] * k
             body = BodyModel(**dims)
             root = root_from_head(camera, head, depth, pose, body)
@@ -249,74 +249,104 @@ def measure_body(
     return body, root
 
 
-def fit_widths(
+WIDTH_KEYS = ("shoulder_width", "torso_half_width", "torso_half_depth")
+
+
+def widened(body: BodyModel, factor: float) -> BodyModel:
+    """`body` with the shoulder width and the torso's half-width and half-depth times `factor`."""
+    dims = body.as_dict()
+    for key in WIDTH_KEYS:
+        dims[key] = dims[key] * factor
+    return BodyModel(**dims)
+
+
+def head_raised(body: BodyModel, factor: float) -> BodyModel:
+    """`body` with the head's height above the shoulders times `factor`, the neck still reaching it."""
+    dims = body.as_dict()
+    rise = dims["head_offset"] * (factor - 1.0)
+    dims["head_offset"] = dims["head_offset"] + rise
+    dims["neck_length"] = max(dims["neck_length"] + rise, 0.01)
+    return BodyModel(**dims)
+
+
+@dataclass(frozen=True)
+class StartupFit:
+    """The start-up fit of one candidate body.
+
+    Attributes:
+        candidate: the candidate as given (before `place` measured it).
+        body: the measured body that was fitted.
+        root: its root position, metres.
+        fit: the fit (`upperpose.FrameFit` or alike).
+    """
+
+    candidate: BodyModel
+    body: BodyModel
+    root: npt.NDArray[np.float64]
+    fit: Any
+
+
+def fit_bodies(
     fitter: Callable[..., Any],
     features: Any,
     pose: npt.ArrayLike,
-    root: npt.ArrayLike,
-    body: BodyModel,
+    candidates: Sequence[BodyModel],
     camera: Camera,
-    scales: Sequence[float],
-    measure: Callable[[BodyModel], BodyModel] | None = None,
+    place: Callable[[BodyModel], tuple[BodyModel, npt.ArrayLike]],
+    best: StartupFit | None = None,
+    score: Callable[[Any], float] = lambda fit: float(fit.cost),
     **fit_args: Any,
-) -> tuple[BodyModel, Any]:
-    """Fits the frame once per width in `scales`; keeps the lowest-cost fit.
+) -> StartupFit:
+    """Fits the frame once per candidate body; keeps the lowest-cost fit.
 
-    The shoulder and torso widths are scaled by each factor in turn. The silhouette's width is
-    only roughly the model's (clothes, sloping shoulders, the silhouette's closing), and a model
-    of the wrong width fits a frontal person best turned, a turn the tracking then keeps. The
-    cost itself decides the width.
+    Start-up measures the person only roughly (the face box gives the depth to about 10 %, the
+    silhouette's width is not the model's), and a model of the wrong size fits a frontal person
+    best misplaced: too wide, it turns; with the head too high above the shoulders, the
+    shoulders sit off their silhouette for the whole clip. The cost itself decides.
 
     Args:
         fitter: `upperpose.fit_frame` or a callable with its signature.
         features: the frame's features.
         pose: the pose to search around.
-        root: the root position, metres.
-        body: the body whose widths are scaled.
+        candidates: the bodies to try.
         camera: the camera.
-        scales: factors of the widths to try.
-        measure: applied to each candidate before fitting (e.g. the arm lengths measured
-            from the shoulders of that width).
+        place: a candidate's measured body and root (e.g. arm lengths measured from that
+            candidate's shoulders, the head put on the face).
+        best: a fit already made, to be beaten.
+        score: what is compared (lower is better); the fit's whole cost by default.
         fit_args: passed on to `fitter` (mode, window_scale, search, ...).
 
     Returns:
-        (body, fit): the chosen body model and its fit.
+        The fit of the lowest score (the first of equals).
     """
-    best: tuple[float, BodyModel, Any] | None = None
-    for k in scales:
-        dims = body.as_dict()
-        for key in ("shoulder_width", "torso_half_width", "torso_half_depth"):
-            dims[key] = dims[key] * k
-        candidate = BodyModel(**dims)
-        if measure is not None:
-            candidate = measure(candidate)
-        fit = fitter(
-            features,
-            np.asarray(pose, dtype=np.float64),
-            np.ascontiguousarray(root, dtype=np.float64),
-            candidate,
-            camera,
-            **fit_args,
-        )
-        if best is None or float(fit.cost) < best[0]:
-            best = (float(fit.cost), candidate, fit)
-    if best is None:
-        raise ValueError("scales must not be empty")
-    return best[1], best[2]
+    if best is None and not candidates:
+        raise ValueError("candidates must not be empty")
+    for candidate in candidates:
+        body, root = place(candidate)
+        root = np.ascontiguousarray(root, dtype=np.float64)
+        fit = fitter(features, np.asarray(pose, dtype=np.float64), root, body, camera, **fit_args)
+        if best is None or score(fit) < score(best.fit):
+            best = StartupFit(candidate, body, root, fit)
+    assert best is not None
+    return best
 
 
 __all__ = [
     "FACE_WIDTH_M",
+    "WIDTH_KEYS",
     "APoseCheck",
+    "StartupFit",
     "FaceDetector",
     "check_apose",
     "choose_face",
     "depth_from_face",
     "face_centre",
-    "fit_widths",
+    "fit_bodies",
+    "head_raised",
     "measure_body",
     "shoulder_span",
     "pixels_per_metre",
     "root_from_head",
     "startup_points",
+    "widened",
 ]
