@@ -138,6 +138,40 @@ def test_foreshortened_forearm_shortens_the_hand_slab() -> None:
     assert np.hypot(full.xy[0] - 212, full.xy[1] - 328) > 9
 
 
+def test_a_forearm_predicted_hanging_finds_its_hand_along_the_blob() -> None:
+    # Clapping: the bare right forearm points inwards (elbow below the shoulder, hand at the
+    # inner end) while the prediction has it hanging. Along the prediction the "hand" would be
+    # the middle of the whole bar (31 px off); along the blob's long axis it is the inner end,
+    # near the point a correct prediction gives (whose slab is shorter: the blob reaches its
+    # elbow).
+    def forearm(s):
+        return cv2.line(s, (262, 300), (322, 300), 255, 20)
+
+    def hand(s):
+        return cv2.circle(s, (330, 300), 13, 255, -1)
+
+    blobs = blobs_of(face, forearm, hand)
+    hanging = locate_points(blobs, joints((320, 100), (265, 305), (500, 300), right_elbow=(262, 250)), CONFIG)[1]
+    along = locate_points(blobs, joints((320, 100), (330, 300), (500, 300), right_elbow=(262, 300)), CONFIG)[1]
+    assert np.hypot(hanging.xy[0] - 330, hanging.xy[1] - 300) < 13
+    assert np.hypot(along.xy[0] - 330, along.xy[1] - 300) < 7
+
+
+def test_a_blob_up_the_bare_upper_arm_keeps_the_predicted_forearm() -> None:
+    # Short sleeves, forearm towards the camera: the blob is the bare upper arm down to the
+    # elbow and the foreshortened hand below it. Its long axis points up the arm, to the
+    # shoulder: the point stays at the hand.
+    def upper_arm(s):
+        return cv2.line(s, (270, 190), (270, 250), 255, 18)
+
+    def hand(s):
+        return cv2.circle(s, (274, 262), 12, 255, -1)
+
+    blobs = blobs_of(face, upper_arm, hand)
+    right = locate_points(blobs, joints((320, 100), (274, 262), (500, 300), right_elbow=(270, 250)), CONFIG)[1]
+    assert np.hypot(right.xy[0] - 274, right.xy[1] - 262) < 8
+
+
 def test_hand_alone_keeps_the_full_slab() -> None:
     # Long sleeves: the blob is the hand alone, away from the elbow; foreshortening changes nothing.
     blobs = blobs_of(face, lambda s: cv2.ellipse(s, (212, 330), (12, 20), 0, 0, 360, 255, -1))

@@ -5,9 +5,11 @@ left hand is matched to a distinct blob within a gate around its predicted posit
 whose only blob within the gate is taken by another part shares it: both are reported merged
 and carry no measured point. A hand's point is the centroid of the far end of its blob along
 the forearm (predicted elbow to predicted hand), one hand length long, so that a blob that
-covers a bare forearm still gives the hand. The head's point is the centre of the largest disc
-inside its blob's convex hull, searched in the top head length along the neck-to-head direction
-(the head at its widest, with or without the hair; drops a bare neck and chest).
+covers a bare forearm still gives the hand; along the blob's own long axis instead when that
+axis points away from both the predicted elbow and shoulder (`hand_direction`). The head's
+point is the centre of the largest disc inside its blob's convex hull, searched in the top head
+length along the neck-to-head direction (the head at its widest, with or without the hair;
+drops a bare neck and chest).
 
 Without a prediction (start-up) the three largest blobs are taken: the topmost is the head,
 the others hands by their side of it (image left = the subject's right hand).
@@ -166,6 +168,30 @@ def clear_of(
     return float(xs.min()), float(ys.min()), float(xs.max()), float(ys.max())
 
 
+def hand_direction(
+    blob: SkinBlob,
+    predicted: npt.NDArray[np.float64],
+    shoulder: npt.NDArray[np.float64],
+    elbow: npt.NDArray[np.float64],
+) -> npt.NDArray[np.float64]:
+    """The direction along which the hand lies at the far end of `blob`.
+
+    The predicted forearm's (`predicted`, unit), unless the blob is elongated and its long
+    axis, turned away from the predicted elbow, also points away from the predicted shoulder:
+    then that axis. A bare forearm predicted hanging while the real one lies across the chest
+    (crossed arms) or points inwards (clapping) would otherwise find its "hand" mid-forearm or
+    at the real elbow, the far end along the prediction, and the fit would confirm itself frame
+    after frame. The shoulder's check keeps a blob that holds bare upper arm too (short
+    sleeves, forearm towards the camera) from sending the point back up the arm.
+    """
+    axis = principal_direction(blob)
+    if axis is None:
+        return predicted
+    centre = np.asarray(blob.centroid, dtype=np.float64)
+    away = axis if float(axis @ (centre - elbow)) >= 0 else -axis
+    return away if float(away @ (centre - shoulder)) > 0 else predicted
+
+
 def hand_slab(
     blob: SkinBlob,
     elbow: npt.NDArray[np.float64],
@@ -252,8 +278,9 @@ def points_with_prediction(
         elif k == 0:
             xy = head_centre(blob, direction, head_length)
         else:
-            elbow, hand = joints[RIGHT_ELBOW + k - 1], joints[RIGHT_HAND + k - 1]
-            xy = far_end(blob, direction, hand_slab(blob, elbow, hand, shoulder_px, config))
+            shoulder, elbow, hand = (joints[j + k - 1] for j in (RIGHT_SHOULDER, RIGHT_ELBOW, RIGHT_HAND))
+            along = hand_direction(blob, direction, shoulder, elbow)
+            xy = far_end(blob, along, hand_slab(blob, elbow, hand, shoulder_px, config))
         points.append(SkinPoint(xy, merged[k], index, box))
     return points
 

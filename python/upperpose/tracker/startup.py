@@ -10,7 +10,9 @@ X and Y from the face centre. Starting from adult averages, the arm lengths are 
 ratio of the measured to the modelled shoulder-to-hand distance in the A-pose (mean of the two
 arms; when they disagree by more than 0.15 the one nearer 1; clamped to +-20 % so that one bad
 blob cannot make a giant). The shoulder width can be
-measured from the silhouette (`measure_body(silhouette=...)`) but is not by default (see there).
+measured from the silhouette (`measure_body(silhouette=...)`) but is not by default (see there):
+the tracker chooses the width, then the head's height above the shoulders, by fitting the
+start-up frame with each candidate (`fit_bodies`).
 """
 
 from __future__ import annotations
@@ -297,7 +299,7 @@ def fit_bodies(
     score: Callable[[Any], float] = lambda fit: float(fit.cost),
     **fit_args: Any,
 ) -> StartupFit:
-    """Fits the frame once per candidate body; keeps the lowest-cost fit.
+    """Fits the frame once per candidate body; keeps the fit of the lowest `score`.
 
     Start-up measures the person only roughly (the face box gives the depth to about 10 %, the
     silhouette's width is not the model's), and a model of the wrong size fits a frontal person
