@@ -119,7 +119,7 @@ class DoubtDetector:
     its count starts again. `frames` 0 turns this off.
     """
 
-    share: float = 0.35
+    share: float = 0.25
     frames: int = 3
     counts: dict[str, int] = field(default_factory=lambda: dict.fromkeys(ARMS, 0))
 

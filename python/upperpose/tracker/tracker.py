@@ -179,7 +179,7 @@ class TrackerConfig:
     startup_frontal: bool = False
     velocity_window_gain: float = 0.5
     fair_recovery: bool = True
-    doubt_share: float = 0.35
+    doubt_share: float = 0.25
     doubt_frames: int = 3
     search_options: dict[str, Any] = field(default_factory=dict)
 
