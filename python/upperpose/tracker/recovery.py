@@ -48,6 +48,22 @@ def hand_distances(joints_2d: npt.NDArray[np.float64], features: FrameFeatures) 
     return out
 
 
+def far_hands(
+    joints_2d: npt.NDArray[np.float64], distances: dict[str, float | None], share: float
+) -> dict[str, bool | None]:
+    """Per arm: is the fitted hand farther than `share` shoulder widths from its skin evidence?
+
+    None where there is no evidence (`hand_distances` gave None or not a number). The shoulder
+    width comes from the fitted `joints_2d`, at least 10 px.
+    """
+    limit = share * max(float(np.hypot(*(joints_2d[1] - joints_2d[2]))), 10.0)
+    out: dict[str, bool | None] = {}
+    for arm in ARMS:
+        distance = distances.get(arm)
+        out[arm] = None if distance is None or not np.isfinite(distance) else bool(distance > limit)
+    return out
+
+
 @dataclass
 class LostDetector:
     """Per-arm lost state from the distance between fitted and measured hands.
@@ -80,14 +96,12 @@ class LostDetector:
         Returns:
             arm name -> lost.
         """
-        shoulder_px = float(np.hypot(*(joints_2d[1] - joints_2d[2])))
-        limit = self.threshold * max(shoulder_px, 10.0)
+        flags = far_hands(joints_2d, distances, self.threshold)
         for arm in ARMS:
-            distance = distances.get(arm)
-            far = distance is not None and np.isfinite(distance) and distance > limit
+            far = flags[arm]
             if missing is not None and missing.get(arm):
                 far = True
-            elif distance is None or not np.isfinite(distance):
+            elif far is None:
                 continue
             if far:
                 self.misses[arm] += 1
@@ -125,11 +139,9 @@ class DoubtDetector:
 
     def update(self, joints_2d: npt.NDArray[np.float64], distances: dict[str, float | None]) -> None:
         """Feeds one fitted frame (`joints_2d` for the shoulder width, as `LostDetector.update`)."""
-        limit = self.share * max(float(np.hypot(*(joints_2d[1] - joints_2d[2]))), 10.0)
+        flags = far_hands(joints_2d, distances, self.share)
         for arm in ARMS:
-            distance = distances.get(arm)
-            far = distance is not None and np.isfinite(distance) and distance > limit
-            self.counts[arm] = self.counts[arm] + 1 if far else 0
+            self.counts[arm] = self.counts[arm] + 1 if flags[arm] else 0
 
     def take_doubted(self, skip: list[str]) -> list[str]:
         """The doubted arms not in `skip` (lost arms are searched anyway); their counts restart."""
@@ -214,6 +226,7 @@ __all__ = [
     "DoubtDetector",
     "HandFollower",
     "LostDetector",
+    "far_hands",
     "hand_distances",
     "unexplained_by_side",
 ]

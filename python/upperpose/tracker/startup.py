@@ -32,6 +32,8 @@ from upperpose.model import BodyModel, Camera, Pose, forward_kinematics, project
 # Width of OpenCV's frontal-face box in metres, as found at 1.5x downscale on the dev set's
 # start-up frames (single frames vary by about +-8 %: use a median over several frames).
 FACE_WIDTH_M = 0.166
+# The dimensions scaled together as the body's width.
+WIDTH_KEYS = ("shoulder_width", "torso_half_width", "torso_half_depth")
 # Joint indices (JOINT_NAMES order).
 HEAD, R_SHOULDER, L_SHOULDER, R_ELBOW, L_ELBOW, R_HAND, L_HAND = range(7)
 
@@ -219,7 +221,6 @@ def measure_body(
     pose = Pose.a_pose()
     head = face_centre(face)
     low, high = 1.0 - max_change, 1.0 + max_change
-    dims = body.as_dict()
     root = root_from_head(camera, head, depth, pose, body)
     if silhouette is not None:
         model = project(camera, forward_kinematics(pose, root, body))
@@ -228,10 +229,7 @@ def measure_body(
         rendered = render_masks(pose, root, camera, width, height, body)["silhouette"]
         measured, modelled = shoulder_span(silhouette, model, drop), shoulder_span(rendered, model, drop)
         if measured and modelled:
-            k = float(np.clip(measured / modelled, low, high))
-            for key in WIDTH_KEYS:
-                dims[key] = dims[key] * k
-            body = BodyModel(**dims)
+            body = widened(body, float(np.clip(measured / modelled, low, high)))
             root = root_from_head(camera, head, depth, pose, body)
     model = project(camera, forward_kinematics(pose, root, body))
     ratios = []
@@ -245,13 +243,11 @@ def measure_body(
         ratios = [min(ratios, key=lambda r: abs(r - 1.0))]  # one hand point is off: trust the other
     if ratios:
         k = float(np.clip(np.median(ratios), low, high))
+        dims = body.as_dict()
         dims["upper_arm_length"] = dims["upper_arm_length"] * k
         dims["lower_arm_length"] = dims["lower_arm_length"] * k
         body = BodyModel(**dims)
     return body, root
-
-
-WIDTH_KEYS = ("shoulder_width", "torso_half_width", "torso_half_depth")
 
 
 def widened(body: BodyModel, factor: float) -> BodyModel:
