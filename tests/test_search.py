@@ -175,6 +175,10 @@ def test_search_config_checks_and_reports_its_settings() -> None:
     assert c.weights["edge"] == 3.0 and c.weights["sil"] == upperpose.SearchConfig().weights["sil"]
     assert upperpose.SearchConfig(behind_weight=0.0, behind_margin=0.3).behind_margin == 0.3
     assert (upperpose.SearchConfig().turn_weight, upperpose.SearchConfig(turn_weight=0.5).turn_weight) == (2.0, 0.5)
+    assert (upperpose.SearchConfig().rotation_weight, upperpose.SearchConfig(rotation_weight=0.0).rotation_weight) == (
+        1.0,
+        0.0,
+    )
     default = upperpose.SearchConfig()
     assert (default.mask_other_arm_edges, default.sil_by_part_area) == (True, True)
     spec = upperpose.SearchConfig(mask_other_arm_edges=False, sil_by_part_area=False)
@@ -188,6 +192,7 @@ def test_search_config_checks_and_reports_its_settings() -> None:
         ({"c0": -1.0}, "c0 must be > 0"),
         ({"behind_weight": -1.0}, "behind_weight must be >= 0"),
         ({"turn_weight": float("nan")}, "turn_weight must be >= 0"),
+        ({"rotation_weight": -0.5}, "rotation_weight must be >= 0"),
     ]:
         with pytest.raises(ValueError, match=message):
             upperpose.SearchConfig(**bad)

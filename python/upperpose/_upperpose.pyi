@@ -148,6 +148,7 @@ class SearchConfig:
         behind_weight: float | None = None,
         behind_margin: float | None = None,
         turn_weight: float | None = None,
+        rotation_weight: float | None = None,
         mask_other_arm_edges: bool = True,
         sil_by_part_area: bool = True,
         merged_skin: bool = True,
@@ -180,6 +181,8 @@ class SearchConfig:
     def behind_margin(self) -> float: ...
     @property
     def turn_weight(self) -> float: ...
+    @property
+    def rotation_weight(self) -> float: ...
     @property
     def mask_other_arm_edges(self) -> bool: ...
     @property

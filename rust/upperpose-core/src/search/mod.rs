@@ -129,6 +129,11 @@ pub struct SearchConfig {
     /// Weight of the prior towards a torso facing the camera: added to the torso stage's cost
     /// per squared radian of turn (`torso_y`). 0 turns it off.
     pub turn_weight: f64,
+    /// Weight of the prior towards an upper arm not rotated about its own axis: added to an
+    /// arm stage's cost per squared radian of `y_up`, times `(1 + cos x_down) / 2` (full with
+    /// the elbow straight, where the rotation is invisible; half at a right angle). 0 turns
+    /// it off.
+    pub rotation_weight: f64,
     /// An arm's Edge and Motion terms get no credit for feature pixels under the other arm (as
     /// fitted or predicted): otherwise an arm laid over the other one collects that arm's
     /// contour for free (docs/cost.md).
@@ -159,6 +164,7 @@ impl Default for SearchConfig {
             behind_weight: 2.0,
             behind_margin: 0.2,
             turn_weight: 2.0,
+            rotation_weight: 1.0,
             mask_other_arm_edges: true,
             sil_by_part_area: true,
             merged_skin: true,
@@ -418,17 +424,29 @@ impl StageSetup<'_> {
         let (p, r) = self.candidate(x);
         let skel = self.skeleton(&p, &r);
         self.terms_of(&skel, scratch).map_or(f64::INFINITY, |t| {
-            t.total(&self.config.weights) + self.behind(&skel) + self.turn(&p)
+            t.total(&self.config.weights) + self.behind(&skel) + self.rest(&p)
         })
     }
 
-    /// The prior towards a torso facing the camera (docs/search.md): a turn changes the
-    /// torso's outline little, so without it the turn drifts and the arms follow it.
-    fn turn(&self, pose: &Pose) -> f64 {
+    /// The priors towards rest of the angles the image hardly shows (docs/search.md): the
+    /// torso's turn (it changes the outline little, and the arms follow a drifting turn) and
+    /// each upper arm's rotation about its own axis (invisible while the elbow is straight,
+    /// and a drifted one bends the elbow out of the plane the person bends it in).
+    fn rest(&self, pose: &Pose) -> f64 {
+        let c = &self.config;
         match self.stage {
-            Stage::Torso => self.config.turn_weight * pose.get(Dof::TorsoY).powi(2),
-            _ => 0.0,
+            Stage::Torso => c.turn_weight * pose.get(Dof::TorsoY).powi(2),
+            Stage::RightArm => {
+                Self::rotation(c.rotation_weight, pose, Dof::RightYUp, Dof::RightXDown)
+            }
+            Stage::LeftArm => Self::rotation(c.rotation_weight, pose, Dof::LeftYUp, Dof::LeftXDown),
         }
+    }
+
+    /// The rotation prior, weakened as the elbow bends and the forearm shows the rotation:
+    /// full with the elbow straight, half at a right angle.
+    fn rotation(weight: f64, pose: &Pose, rotation: Dof, bend: Dof) -> f64 {
+        weight * pose.get(rotation).powi(2) * 0.5 * (1.0 + pose.get(bend).cos())
     }
 
     /// The prior against a hand behind the body (docs/search.md): the silhouette of an arm
