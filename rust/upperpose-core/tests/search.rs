@@ -507,7 +507,7 @@ fn the_rotation_prior_holds_an_unseen_rotation_and_yields_to_a_seen_one() {
     // the true one with the default weight.
     let root = Vector3::new(0.0, 0.12, 2.2);
     let body = BodyModel::default();
-    let fit_y_up = |truth: &Pose, predicted_y_up: f64, rotation_weight: f64, seed: u64| {
+    let fit_y_up = |truth: &Pose, predicted_y_up: f64, seed: u64| {
         let f = features_of(truth, &root, &body, &camera());
         let mut prediction = *truth;
         prediction.set(Dof::RightYUp, predicted_y_up);
@@ -518,23 +518,21 @@ fn the_rotation_prior_holds_an_unseen_rotation_and_yields_to_a_seen_one() {
             req.angle_window_scales[d as usize] = 0.0; // the other angles held at the truth
         }
         let config = SearchConfig {
-            rotation_weight,
             seed,
             ..SearchConfig::default()
         };
         fit_frame(&req, &config).unwrap().pose.get(Dof::RightYUp)
     };
+    assert!(SearchConfig::default().rotation_weight > 0.0);
     let straight = test_poses()[0];
-    let default = SearchConfig::default().rotation_weight;
-    assert!(default > 0.0);
     let mut bent = straight;
     bent.set(Dof::RightZUp, 1.2);
     bent.set(Dof::RightXDown, 1.5);
     bent.set(Dof::RightYUp, -0.6);
     for seed in 0..4 {
-        let held = fit_y_up(&straight, 0.5, default, seed);
+        let held = fit_y_up(&straight, 0.5, seed);
         assert!(held.abs() < 0.1, "seed {seed}: straight arm's y_up {held}");
-        let seen = fit_y_up(&bent, -0.2, default, seed);
+        let seen = fit_y_up(&bent, -0.2, seed);
         assert!(
             (seen + 0.6).abs() < 0.1,
             "seed {seed}: bent arm's y_up {seen}"
