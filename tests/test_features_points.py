@@ -30,11 +30,21 @@ def face(skin):
     cv2.ellipse(skin, (320, 100), (28, 36), 0, 0, 360, 255, -1)
 
 
+def disc(centre, radius):
+    """A filled skin disc (a hand), for `blobs_of`."""
+    return lambda skin: cv2.circle(skin, centre, radius, 255, -1)
+
+
+def bar(start, end, width):
+    """A straight skin bar `width` px thick (a bare forearm or upper arm), for `blobs_of`."""
+    return lambda skin: cv2.line(skin, start, end, 255, width)
+
+
 def test_three_separate_blobs_are_matched() -> None:
     blobs = blobs_of(
         face,
-        lambda s: cv2.circle(s, (200, 300), 14, 255, -1),
-        lambda s: cv2.circle(s, (440, 310), 14, 255, -1),
+        disc((200, 300), 14),
+        disc((440, 310), 14),
     )
     head, right, left = locate_points(blobs, joints((318, 104), (205, 295), (436, 305)), CONFIG)
     assert not (head.merged or right.merged or left.merged)
@@ -54,10 +64,8 @@ def test_hands_together_are_merged() -> None:
 
 
 def test_hand_near_face_but_separate_is_not_merged() -> None:
-    def hand(s):
-        return cv2.circle(s, (372, 112), 12, 255, -1)  # 12 px gap to the face
-
-    blobs = blobs_of(face, hand, lambda s: cv2.circle(s, (200, 300), 14, 255, -1))
+    hand = disc((372, 112), 12)  # 12 px gap to the face
+    blobs = blobs_of(face, hand, disc((200, 300), 14))
     # The prediction of the left hand lies between face and hand: the assignment still separates them.
     head, _, left = locate_points(blobs, joints((320, 100), (200, 300), (360, 110)), CONFIG)
     assert not head.merged and not left.merged
@@ -68,13 +76,9 @@ def test_a_hand_on_the_face_takes_no_scrap_of_skin() -> None:
     # Left hand on the face (one blob) and a scrap of hair-coloured skin above the face, 81 px:
     # under a tenth of a hand (shoulders 100 px apart: 100 px). Without the floor the hand took
     # the scrap and neither was reported merged.
-    def hand(s):
-        return cv2.circle(s, (342, 118), 14, 255, -1)
-
-    def scrap(s):
-        return cv2.circle(s, (352, 58), 5, 255, -1)
-
-    blobs = blobs_of(face, hand, scrap, lambda s: cv2.circle(s, (200, 300), 14, 255, -1))
+    hand = disc((342, 118), 14)
+    scrap = disc((352, 58), 5)
+    blobs = blobs_of(face, hand, scrap, disc((200, 300), 14))
     prediction = joints((320, 100), (200, 300), (345, 105))
     head, _, left = locate_points(blobs, prediction, CONFIG)
     assert left.merged and head.merged and left.blob == head.blob
@@ -85,12 +89,8 @@ def test_a_hand_on_the_face_takes_no_scrap_of_skin() -> None:
 
 def test_far_end_of_a_forearm_blob() -> None:
     # Bare forearm from (200, 250) to (140, 370) ending in the hand: the point is near the hand.
-    def forearm(s):
-        return cv2.line(s, (200, 250), (140, 370), 255, 22)
-
-    def hand(s):
-        return cv2.circle(s, (133, 384), 15, 255, -1)
-
+    forearm = bar((200, 250), (140, 370), 22)
+    hand = disc((133, 384), 15)
     blobs = blobs_of(face, forearm, hand)
     prediction = joints((320, 100), (138, 378), (500, 300), right_elbow=(202, 246))
     _, right, left = locate_points(blobs, prediction, CONFIG)
@@ -109,12 +109,12 @@ def test_no_blob_within_gate_is_absent() -> None:
 def test_startup_assigns_by_side_of_head() -> None:
     blobs = blobs_of(
         face,
-        lambda s: cv2.circle(s, (200, 330), 14, 255, -1),
-        lambda s: cv2.circle(s, (460, 330), 16, 255, -1),
+        disc((200, 330), 14),
+        disc((460, 330), 16),
     )
     head, right, left = locate_points(blobs, None, CONFIG)
     assert head.xy[1] < 120 and right.xy[0] < 260 and left.xy[0] > 400
-    one_hand = blobs_of(face, lambda s: cv2.circle(s, (460, 330), 16, 255, -1))
+    one_hand = blobs_of(face, disc((460, 330), 16))
     head, right, left = locate_points(one_hand, None, CONFIG)
     assert right is None and left is not None
     assert locate_points([], None, CONFIG) == [None, None, None]
@@ -124,12 +124,8 @@ def test_foreshortened_forearm_shortens_the_hand_slab() -> None:
     # Forearm pointing at the camera: elbow (200, 290) projects 37 px from the palm (212, 325),
     # a third of an upright forearm (0.94 x 100 px shoulders); the bare forearm and the hand
     # form one short blob. A full slab (50 px) would take the whole blob, forearm included.
-    def forearm(s):
-        return cv2.line(s, (200, 284), (210, 318), 255, 24)
-
-    def hand(s):
-        return cv2.circle(s, (212, 328), 15, 255, -1)
-
+    forearm = bar((200, 284), (210, 318), 24)
+    hand = disc((212, 328), 15)
     blobs = blobs_of(face, forearm, hand)
     prediction = joints((320, 100), (212, 325), (500, 300), right_elbow=(200, 290))
     _, right, _ = locate_points(blobs, prediction, CONFIG)
@@ -144,12 +140,8 @@ def test_a_forearm_predicted_hanging_finds_its_hand_along_the_blob() -> None:
     # the middle of the whole bar (31 px off); along the blob's long axis it is the inner end,
     # near the point a correct prediction gives (whose slab is shorter: the blob reaches its
     # elbow).
-    def forearm(s):
-        return cv2.line(s, (262, 300), (322, 300), 255, 20)
-
-    def hand(s):
-        return cv2.circle(s, (330, 300), 13, 255, -1)
-
+    forearm = bar((262, 300), (322, 300), 20)
+    hand = disc((330, 300), 13)
     blobs = blobs_of(face, forearm, hand)
     hanging = locate_points(blobs, joints((320, 100), (265, 305), (500, 300), right_elbow=(262, 250)), CONFIG)[1]
     along = locate_points(blobs, joints((320, 100), (330, 300), (500, 300), right_elbow=(262, 300)), CONFIG)[1]
@@ -161,12 +153,8 @@ def test_a_blob_up_the_bare_upper_arm_keeps_the_predicted_forearm() -> None:
     # Short sleeves, forearm towards the camera: the blob is the bare upper arm down to the
     # elbow and the foreshortened hand below it. Its long axis points up the arm, to the
     # shoulder: the point stays at the hand.
-    def upper_arm(s):
-        return cv2.line(s, (270, 190), (270, 250), 255, 18)
-
-    def hand(s):
-        return cv2.circle(s, (274, 262), 12, 255, -1)
-
+    upper_arm = bar((270, 190), (270, 250), 18)
+    hand = disc((274, 262), 12)
     blobs = blobs_of(face, upper_arm, hand)
     right = locate_points(blobs, joints((320, 100), (274, 262), (500, 300), right_elbow=(270, 250)), CONFIG)[1]
     assert np.hypot(right.xy[0] - 274, right.xy[1] - 262) < 8
@@ -237,10 +225,8 @@ def test_a_limb_that_differs_from_the_room_only_in_colour_is_kept() -> None:
 def test_hand_leaving_the_face_does_not_push_the_head_onto_it() -> None:
     # The model's hand is still on the face (top) while the real hand has just left it (below
     # the chin): matched by total distance alone, the head would take the hand's blob.
-    def hand(s):
-        return cv2.circle(s, (300, 160), 12, 255, -1)  # 12 px below the chin
-
-    blobs = blobs_of(face, hand, lambda s: cv2.circle(s, (440, 310), 14, 255, -1))
+    hand = disc((300, 160), 12)  # 12 px below the chin
+    blobs = blobs_of(face, hand, disc((440, 310), 14))
     predicted = joints((320, 100), (320, 80), (436, 305))
     head, right, _ = locate_points(blobs, predicted, CONFIG)
     assert not head.merged and abs(head.xy[1] - 100) < 20
@@ -250,9 +236,7 @@ def test_hand_leaving_the_face_does_not_push_the_head_onto_it() -> None:
 
 
 def test_hand_merged_with_the_face_is_boxed_clear_of_the_head() -> None:
-    def hand(s):
-        return cv2.circle(s, (300, 145), 14, 255, -1)  # overlaps the chin
-
+    hand = disc((300, 145), 14)  # overlaps the chin
     blobs = blobs_of(face, hand)
     head, right, _ = locate_points(blobs, joints((320, 100), (300, 145), (440, 310)), CONFIG)
     assert head.merged and right.merged and right.box is not None
