@@ -25,6 +25,7 @@ from upperpose.synth import (
     render_frame,
     write_clip,
 )
+from upperpose.synth.devset import holdout_set
 from upperpose.synth.scene import EMPTY_SECONDS, WALK_IN_SECONDS
 
 SMALL = {"width": 320, "height": 240}
@@ -82,6 +83,21 @@ def test_face_detector_finds_every_devset_face() -> None:
         head = plan.camera.project(plan.joints_3d(i))[0]
         hits = [f for f in faces if f[0] <= head[0] <= f[0] + f[2] and f[1] <= head[1] <= f[1] + f[3]]
         assert hits, f"{name}: no face found around the head at {head.round()} (found {list(map(list, faces))})"
+
+
+def test_holdout_sets_keep_the_recipes_and_draw_new_clips() -> None:
+    first, second = holdout_set(1), holdout_set(2)
+    assert [n for n, _ in first] == [n for n, _ in DEVSET] == [n for n, _ in second]
+    fields = ("motion", "frames", "empty_start", "lighting_ramp", "step_closer", "width", "height", "fps")
+    for (_, dev), (_, one), (_, two) in zip(DEVSET, first, second):
+        assert all(getattr(dev, f) == getattr(one, f) == getattr(two, f) for f in fields)
+        assert len({dev.seed, one.seed, two.seed}) == 3
+        assert one.appearance is None
+    looks = {plan_clip(c).appearance for _, c in first}
+    assert len(looks) >= 10, "the looks are drawn per clip"
+    assert not looks & {c.appearance for _, c in DEVSET}
+    with pytest.raises(ValueError, match="positive integer"):
+        holdout_set(0)
 
 
 def test_renders_are_deterministic_per_seed() -> None:
@@ -173,5 +189,10 @@ def test_bad_synth_arguments(capsys: pytest.CaptureFixture[str], tmp_path: Path)
     assert "unknown motion 'moonwalk'" in capsys.readouterr().err
     assert main(["synth", str(tmp_path / "x"), "--frames", "0"]) == 1
     assert "frames must be a positive integer" in capsys.readouterr().err
+    assert main(["synth", str(tmp_path / "x"), "--holdout", "1"]) == 1
+    assert "--holdout goes with --devset" in capsys.readouterr().err
+    assert main(["synth", str(tmp_path / "x"), "--devset", "--holdout", "-1"]) == 1
+    assert "positive integer, got -1" in capsys.readouterr().err
+    assert not (tmp_path / "x").exists()
     with pytest.raises(ValueError, match="unknown skin"):
         Appearance(skin="green")

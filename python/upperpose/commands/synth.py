@@ -21,6 +21,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
     p.add_argument("outdir", help="clip folder to write (with --devset: the folder of the twelve clip folders)")
     p.add_argument("--devset", action="store_true", help="write the 12-clip development set into OUTDIR")
+    p.add_argument(
+        "--holdout", type=int, default=0, metavar="K",
+        help="with --devset: held-out set K >= 1 instead (the same recipes, other seeds and looks)",
+    )  # fmt: skip
     p.add_argument("--jobs", type=int, default=2, help="parallel processes for --devset (default 2)")
     p.add_argument("--motion", default="wave_right", help=f"one of: {', '.join(MOTIONS)}")
     p.add_argument("--frames", type=int, default=150)
@@ -61,25 +65,29 @@ def run(args: argparse.Namespace) -> int:
     from upperpose.files import write_image
     from upperpose.synth.appearance import Appearance
     from upperpose.synth.dataset import write_clip
-    from upperpose.synth.devset import DEVSET
+    from upperpose.synth.devset import DEVSET, holdout_set
     from upperpose.synth.scene import ClipConfig
     from upperpose.synth.sheet import contact_sheet
 
+    if args.holdout and not args.devset:
+        raise ValueError("--holdout goes with --devset")
     if args.devset:
         if args.jobs < 1:
             raise ValueError(f"--jobs must be at least 1, got {args.jobs}")
+        clips = holdout_set(args.holdout) if args.holdout else DEVSET
+        label = f"held-out set {args.holdout}" if args.holdout else "development set"
         Path(args.outdir).mkdir(parents=True, exist_ok=True)
         start = time.perf_counter()
         # One thread per worker process: the workers already fill the cores.
         for var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
             os.environ.setdefault(var, "1")
         with ProcessPoolExecutor(max_workers=args.jobs, mp_context=multiprocessing.get_context("spawn")) as pool:
-            futures = [pool.submit(_render, name, config, args.outdir) for name, config in DEVSET]
+            futures = [pool.submit(_render, name, config, args.outdir) for name, config in clips]
             for future in futures:
                 name, seconds = future.result()
                 print(f"wrote {Path(args.outdir) / name} ({seconds:.1f} s)", flush=True)
-        print(f"development set: {len(DEVSET)} clips in {time.perf_counter() - start:.1f} s")
-        sheet = write_image(Path(args.outdir) / "sheet.png", contact_sheet([Path(args.outdir) / n for n, _ in DEVSET]))
+        print(f"{label}: {len(clips)} clips in {time.perf_counter() - start:.1f} s")
+        sheet = write_image(Path(args.outdir) / "sheet.png", contact_sheet([Path(args.outdir) / n for n, _ in clips]))
         print(f"wrote {sheet} (contact sheet)")
         return 0
     looks = {k: getattr(args, k) for k in ("skin", "shirt", "pattern", "sleeves", "hair", "build") if getattr(args, k)}

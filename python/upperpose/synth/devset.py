@@ -1,10 +1,13 @@
 """The development set: twelve fixed clips that cover every motion, look and option.
 
 `upperpose synth --devset OUTDIR` regenerates it, the same bytes every time (given the same
-OpenCV build). Clip folders are named `NN-motion`.
+OpenCV build). Clip folders are named `NN-motion`. `upperpose synth --devset --holdout K OUTDIR`
+writes held-out set K: the same twelve recipes with other seeds and looks (see `holdout_set`).
 """
 
 from __future__ import annotations
+
+import dataclasses
 
 from upperpose.synth.appearance import Appearance
 from upperpose.synth.scene import ClipConfig
@@ -105,3 +108,15 @@ DEVSET: list[tuple[str, ClipConfig]] = [
         ),
     ),
 ]
+
+
+def holdout_set(k: int) -> list[tuple[str, ClipConfig]]:
+    """Held-out set `k` (k >= 1): the development set's recipes on clips no tuning has seen.
+
+    Each clip keeps its motion, length and options (walk-in, lighting ramp, step closer) and
+    takes the seed `1000 k + its dev-set seed`, which draws a new room, depth, light, motion
+    speeds and, since the looks are left unset, a new skin tone, shirt, sleeves, hair and build.
+    """
+    if not (isinstance(k, int) and k >= 1):
+        raise ValueError(f"held-out set number must be a positive integer, got {k!r}")
+    return [(name, dataclasses.replace(c, seed=1000 * k + c.seed, appearance=None)) for name, c in DEVSET]
