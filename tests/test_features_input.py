@@ -113,6 +113,8 @@ def test_bad_backgrounds_raise_value_error() -> None:
         {"sub_close": -1},
         {"edge_blur": 4},
         {"hand_gate": 0.0},
+        {"person_skin_sigmas": 0.0},
+        {"person_skin_min_hue_spread": -1.0},
         {"bg_max_samples": 2},
     ],
 )

@@ -115,6 +115,22 @@ class FeatureConfig:
     hsv_max_s: int = 190
     """HSV rule: largest saturation of a skin pixel (saturated reds are clothes, not skin)."""
 
+    person_skin: bool = True
+    """I_skin0 with a clean plate: once the tracker has found the person's face, skin is the
+    face's hue and saturation (within `person_skin_sigmas` spreads, widened for dark and grey
+    pixels) instead of the generic rule, except around the head (features/person_skin.py). The
+    generic rules take in khaki, beige and wood as well as every skin tone, and lose dark skin
+    in shadow."""
+
+    person_skin_sigmas: float = 3.0
+    """Person's skin: half-axes of the (hue, saturation) ellipse in spreads."""
+
+    person_skin_min_hue_spread: float = 2.0
+    """Person's skin: floor of the hue spread, in OpenCV hue steps (of 180)."""
+
+    person_skin_min_saturation_spread: float = 12.0
+    """Person's skin: floor of the saturation spread (of 255)."""
+
     background_skin_dilate: int = 3
     """Background skin mask: side of its dilation, so that the blurred rims of skin-coloured
     background objects are dropped too (0 or 1: none)."""
@@ -339,6 +355,9 @@ class FeatureConfig:
             "forearm_reach",
             "head_length",
             "split_chroma",
+            "person_skin_sigmas",
+            "person_skin_min_hue_spread",
+            "person_skin_min_saturation_spread",
             "split_sample",
             "split_max_overlap",
             "min_shoulder_px",

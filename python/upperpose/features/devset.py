@@ -3,7 +3,8 @@
 Silhouette IoU, head and hand points, merged blobs, skin precision and recall, skin blobs off the
 person.  `python -m upperpose.features.devset DEVSET_DIR [--skin rgb ycrcb hsv]` prints one row per
 clip. The prediction given to the point matcher is the previous frame's true joints (a perfect
-tracker), so the numbers isolate the features from the tracker.
+tracker), so the numbers isolate the features from the tracker. As in the tracker, the person's
+skin colour is learnt from the first face found (`FeatureConfig.person_skin`).
 """
 
 from __future__ import annotations
@@ -25,6 +26,7 @@ from upperpose.features.background import (
 )
 from upperpose.features.config import SKIN_SPACES, FeatureConfig
 from upperpose.features.extractor import FeatureExtractor
+from upperpose.tracker.startup import FaceDetector, choose_face
 
 POINT_JOINTS = (0, 5, 6)  # head, right hand, left hand in JOINT_NAMES
 POINT_TOLERANCE = 10.0
@@ -111,6 +113,7 @@ def score_clip(folder: Path, config: FeatureConfig, estimated: bool = False) -> 
         background = Background.from_plate(plate, config)
     score = ClipScore(folder.name, background.method)
     extract = FeatureExtractor(background, config, reuse_buffers=True)
+    detect_faces = FaceDetector()
     capture = cv2.VideoCapture(str(folder / "video.mp4"))
     ious: list[float] = []
     errors: list[list[float]] = [[], [], []]
@@ -124,6 +127,10 @@ def score_clip(folder: Path, config: FeatureConfig, estimated: bool = False) -> 
         entry = truth_frames.get(index, {})
         joints = np.asarray(entry["joints_2d"], np.float64) if entry.get("joints_2d") else None
         features = extract(frame, previous_joints if previous_joints is not None else joints)
+        if config.person_skin and extract.person_skin is None:
+            face = choose_face(detect_faces(frame), features.skin)
+            if face is not None:
+                extract.learn_skin(frame, face)
         person = unpack(masks["person"], index, width)
         skin = unpack(masks["skin"], index, width) if "skin" in masks else None
         sil = features.sil > 0

@@ -22,10 +22,16 @@ from upperpose.features.parts import (
     torso_region_from_labels,
     torso_region_from_shoulders,
 )
-from upperpose.features.points import LEFT_SHOULDER, RIGHT_SHOULDER, locate_points
+from upperpose.features.person_skin import PersonSkin
+from upperpose.features.points import HEAD, LEFT_SHOULDER, RIGHT_SHOULDER, locate_points, shoulder_width
 from upperpose.features.skin import SkinWork, skin_mask
 from upperpose.features.split import split_head_from_hands
 
+# Around the head the generic skin rule holds (hair): a disc of this radius in predicted
+# shoulder widths around the predicted head (a head is about half a shoulder width long), or,
+# before tracking, in face widths around the face.
+HEAD_ZONE_SHOULDERS = 0.45
+HEAD_ZONE_FACES = 0.9
 OUTPUT_NAMES = (
     "sub",
     "edge",
@@ -124,6 +130,80 @@ class FeatureExtractor:
         self._trim = square(2 * self.config.sil_edge_trim + 1) if self.config.sil_edge_trim > 0 else None
         self._reuse = reuse_buffers
         self._outputs = self._new_outputs() if reuse_buffers else None
+        self.person_skin: PersonSkin | None = None
+        self._face_zone: tuple[tuple[float, float], float] | None = None
+
+    def learn_skin(self, frame: Frame, face: tuple[int, int, int, int]) -> PersonSkin | None:
+        """Learns the person's skin colour from their face (`config.person_skin`, clean plates only).
+
+        Args:
+            frame: the `(H, W, 3)` uint8 BGR frame the face was found in.
+            face: the face box `(x, y, w, h)`, pixels.
+
+        Returns:
+            The model, or None: not learnt (turned off, an estimated background, or too few skin
+            pixels in the face). From the next frame on, I_skin0 is that colour outside the
+            head's zone, until `forget_skin` or the next `learn_skin`.
+        """
+        cfg = self.config
+        # Only against a clean plate: the room in the person's colour is known only from one
+        # (an estimated plate may hold some of the person, or miss the room behind them).
+        if not cfg.person_skin or self.background.estimated:
+            return None
+        relit = self._plate_for(check_frame(frame, "frame", self.background.size))[3]
+        self.person_skin = PersonSkin.from_face(
+            relit, face, skin_mask(relit, cfg), cfg.person_skin_sigmas, cfg.person_skin_min_hue_spread,
+            cfg.person_skin_min_saturation_spread,
+        )  # fmt: skip
+        x, y, w, h = face
+        self._face_zone = ((x + w / 2, y + h / 2), HEAD_ZONE_FACES * w)
+        if self.person_skin is not None:
+            # The room in the person's skin colour, as `Background.skin` is in the generic rule's.
+            room = self.person_skin.mask(self.background.plate, room=True)
+            if cfg.background_skin_dilate > 1:
+                room = cv2.dilate(room, square(cfg.background_skin_dilate))
+            self._not_background_skin = cv2.bitwise_not(cv2.bitwise_or(room, self.background.skin))
+        return self.person_skin
+
+    def forget_skin(self) -> None:
+        """Back to the generic skin rule (the person left)."""
+        self.person_skin = None
+        self._face_zone = None
+        self._not_background_skin = cv2.bitwise_not(self.background.skin)
+
+    def _head_zone(self, joints: npt.NDArray[np.float64] | None) -> tuple[tuple[float, float], float] | None:
+        """Disc around the predicted head (else the learnt face) where the generic skin rule holds."""
+        if joints is not None and np.all(np.isfinite(joints[[HEAD, RIGHT_SHOULDER, LEFT_SHOULDER]])):
+            return (float(joints[HEAD, 0]), float(joints[HEAD, 1])), HEAD_ZONE_SHOULDERS * shoulder_width(
+                joints, self.config
+            )
+        return self._face_zone
+
+    def _person_skin0(self, relit: Frame, joints: npt.NDArray[np.float64] | None, out: Mask) -> Mask:
+        """I_skin0 once the person's skin is known: their colour, and the generic rule around the head.
+
+        Around the head the generic rule stays: hair that passes it belongs to the head's blob,
+        by whose size and centre start-up and the root were measured. It is computed there only.
+        """
+        assert self.person_skin is not None
+        work = self._work
+        skin0 = self.person_skin.mask(relit, work.skin.converted, out)
+        head = self._head_zone(joints)
+        if head is None:
+            return skin0
+        (cx, cy), radius = head
+        r = max(round(radius), 1)
+        height, width = skin0.shape
+        x0, y0 = max(round(cx) - r, 0), max(round(cy) - r, 0)
+        x1, y1 = min(round(cx) + r + 1, width), min(round(cy) + r + 1, height)
+        if x1 <= x0 or y1 <= y0:
+            return skin0
+        generic = skin_mask(np.ascontiguousarray(relit[y0:y1, x0:x1]), self.config)
+        disc = np.zeros_like(generic)
+        cv2.circle(disc, (round(cx) - x0, round(cy) - y0), r, 255, -1)
+        cv2.bitwise_and(generic, disc, dst=generic)
+        cv2.bitwise_or(skin0[y0:y1, x0:x1], generic, dst=skin0[y0:y1, x0:x1])
+        return skin0
 
     def _new_outputs(self) -> dict[str, Mask]:
         height, width = self.background.size
@@ -248,7 +328,10 @@ class FeatureExtractor:
         # the frame in the plate's light. A trail: the pixel differed from the plate a frame
         # before and came back towards it, a moving part uncovered the room; skin-coloured room
         # there is not skin.
-        skin0 = skin_mask(relit, cfg, work.skin, out["skin0"])
+        if self.person_skin is None:
+            skin0 = skin_mask(relit, cfg, work.skin, out["skin0"])
+        else:
+            skin0 = self._person_skin0(relit, joints, out["skin0"])
         distance, before = self._distance(frame, plate), work.distances[self._current ^ 1]
         cv2.compare(distance, before, cv2.CMP_GE, dst=work.allowed)
         cv2.compare(before, cfg.sub_threshold, cv2.CMP_LE, dst=work.tmp)

@@ -406,6 +406,12 @@ class Tracker:
         features = self._extract(frame)
         t1 = time.perf_counter()
         face = choose_face(self._detect_faces(frame), features.skin)
+        # The person's own skin colour, from each face until tracking starts: start-up then
+        # measures the same skin blobs the tracking will see.
+        if face is None:
+            self._extract.forget_skin()
+        else:
+            self._extract.learn_skin(frame, face)
         passed = False
         points = np.full((3, 2), np.nan)
         if face is not None:
@@ -697,6 +703,7 @@ class Tracker:
         return np.asarray(cv2.resize(small, (width, height), interpolation=cv2.INTER_NEAREST), dtype=np.uint8)
 
     def _reset_person(self) -> None:
+        self._extract.forget_skin()
         self._body = self._base_body
         self._pose = Pose.a_pose().angles.copy()
         self._previous_pose = self._pose.copy()
