@@ -179,15 +179,15 @@ class FeatureExtractor:
             )
         return self._face_zone
 
-    def _person_skin0(self, relit: Frame, joints: npt.NDArray[np.float64] | None, out: Mask) -> Mask:
+    def _person_skin0(
+        self, person: PersonSkin, relit: Frame, joints: npt.NDArray[np.float64] | None, out: Mask
+    ) -> Mask:
         """I_skin0 once the person's skin is known: their colour, and the generic rule around the head.
 
         Around the head the generic rule stays: hair that passes it belongs to the head's blob,
         by whose size and centre start-up and the root were measured. It is computed there only.
         """
-        assert self.person_skin is not None
-        work = self._work
-        skin0 = self.person_skin.mask(relit, work.skin.converted, out)
+        skin0 = person.mask(relit, self._work.skin.converted, out)
         head = self._head_zone(joints)
         if head is None:
             return skin0
@@ -331,7 +331,7 @@ class FeatureExtractor:
         if self.person_skin is None:
             skin0 = skin_mask(relit, cfg, work.skin, out["skin0"])
         else:
-            skin0 = self._person_skin0(relit, joints, out["skin0"])
+            skin0 = self._person_skin0(self.person_skin, relit, joints, out["skin0"])
         distance, before = self._distance(frame, plate), work.distances[self._current ^ 1]
         cv2.compare(distance, before, cv2.CMP_GE, dst=work.allowed)
         cv2.compare(before, cfg.sub_threshold, cv2.CMP_LE, dst=work.tmp)

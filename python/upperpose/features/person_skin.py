@@ -114,8 +114,8 @@ class PersonSkin:
             out: output `(H, W)` uint8 (allocated when None).
             room: use `room_table` (for the clean plate).
         """
-        hsv = cv2.cvtColor(frame, cv2.COLOR_BGR2HSV, dst=hsv)
-        hue, saturation, value = cv2.split(hsv)
+        converted = cv2.cvtColor(frame, cv2.COLOR_BGR2HSV, dst=hsv)
+        hue, saturation, value = cv2.split(converted)
         cv2.LUT(saturation, PACK_SATURATION, dst=saturation)
         cv2.add(saturation, cv2.LUT(value, PACK_VALUE), dst=saturation)
         table = self.room_table if room else self.table
