@@ -140,6 +140,19 @@ def test_root_ignores_a_scrap_of_skin_taken_for_the_head() -> None:
     assert head_y == pytest.approx(150.0, abs=0.5)
 
 
+def test_a_head_blob_widened_by_hair_still_measures_depth() -> None:
+    # Blond hair passes the skin rule: the head's blob is 1.3 face widths wide at start-up.
+    camera = upperpose.Camera.for_image(640, 480)
+    body, pose = upperpose.BodyModel(), upperpose.Pose().angles
+    root = root_from_head(camera, [320.0, 150.0], 2.0, pose, body)
+    estimator = RootEstimator(camera, body, root, 65.0, head_size_px=50.0)
+    fitted = None
+    for k in range(60):  # steps from 2.0 m to 1.6 m: the blob grows from 65 to 81 px
+        width = 65.0 * 2.0 / (2.0 - 0.4 * min(k, 30) / 30)
+        fitted = estimator.update(_HeadOnly((320.0, 150.0), (round(width), 70)), pose, fitted)
+    assert estimator.depth == pytest.approx(1.6, abs=0.03)
+
+
 def test_lost_detector_counts_misses_and_pauses_without_evidence() -> None:
     detector = LostDetector(threshold=1.0, frames=3)
     joints = np.array([[320, 100], [270, 170], [370, 170], [250, 250], [390, 250], [240, 330], [400, 330]], float)

@@ -99,13 +99,16 @@ class RootEstimator:
         if self._size0 is None:
             return True
         _, _, width, height = features.blobs[head.blob].bbox
-        expected = self._expected_head_px()
-        small = self._min_head_share * expected
-        return small <= width <= (1.0 + self._max_jump) * expected and small <= height <= 2.2 * expected
+        face = self._at_depth(self._size0)
+        # Hair that passes the skin rule widens the head's blob past the face: the widest
+        # allowed is the blob's own width at start-up, if wider than the face.
+        widest = self._at_depth(max(self._size0, self._w0 or 0.0))
+        small = self._min_head_share * face
+        return small <= width <= (1.0 + self._max_jump) * widest and small <= height <= 2.2 * face
 
-    def _expected_head_px(self) -> float:
-        """The head's width in pixels at the current depth (from its size at start-up)."""
-        return float(self._size0 or 0.0) * self._z0 / self.depth
+    def _at_depth(self, start_px: float) -> float:
+        """A head measure in pixels at the current depth, from its pixels at start-up."""
+        return float(start_px) * self._z0 / self.depth
 
     def _accept_xy(self, measured: npt.NDArray[np.float64]) -> bool:
         """Whether a root X, Y measured from the head point is taken (see the module docs).
