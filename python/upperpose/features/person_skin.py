@@ -117,13 +117,12 @@ class PersonSkin:
         converted = cv2.cvtColor(frame, cv2.COLOR_BGR2HSV, dst=hsv)
         hue, saturation, value = cv2.split(converted)
         cv2.LUT(saturation, PACK_SATURATION, dst=saturation)
-        cv2.add(saturation, cv2.LUT(value, PACK_VALUE), dst=saturation)
+        cv2.add(saturation, cv2.LUT(value, PACK_VALUE, dst=value), dst=saturation)
+        # Channel 0 of the first plane and channel 0 of the second (OpenCV numbers the channels
+        # of the listed planes in a row): no merged copy of the two.
         table = self.room_table if room else self.table
-        found = cv2.calcBackProject([cv2.merge((hue, saturation))], [0, 1], table, [0, HUE_STEPS, 0, 256], 1)
-        if out is None:
-            return np.asarray(found, dtype=np.uint8)
-        np.copyto(out, found)
-        return out
+        found = cv2.calcBackProject([hue, saturation], [0, 1], table, [0, HUE_STEPS, 0, 256], 1, dst=out)
+        return np.asarray(found, dtype=np.uint8)
 
 
 def _tables(
