@@ -46,7 +46,10 @@ def run_clip(clip: Path, out_dir: Path, plate: bool, seed: int, overrides: dict)
         cmd = [sys.executable, "-c", RUNNER, json.dumps(overrides), *args]
     else:
         cmd = [sys.executable, "-m", "upperpose", *args]
-    subprocess.run(cmd, check=False, capture_output=True)
+    # A failed run leaves the frames done so far (Ctrl-C semantics): scoring those would flatter it.
+    run = subprocess.run(cmd, check=False, capture_output=True, text=True)
+    if run.returncode != 0:
+        raise RuntimeError(f"tracking {clip.name} failed: {run.stderr.strip()[-2000:]}")
     ev = subprocess.run(
         [sys.executable, "-m", "upperpose", "eval", str(out), str(clip / "gt.json"), "--json"],
         capture_output=True,
