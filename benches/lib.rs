@@ -6,7 +6,8 @@ use upperpose_core::image::{FrameView, SkinPoints};
 use upperpose_core::nalgebra::Vector3;
 use upperpose_core::search::{FrameRequest, Mode};
 use upperpose_core::{
-    skeleton_from_pose, BitMask, BodyModel, BodyRaster, Camera, Joint, Pose, Roi, Side, Skeleton,
+    skeleton_from_pose, BitMask, BodyModel, BodyRaster, Camera, Joint, Part, Pose, Roi, Side,
+    Skeleton,
 };
 
 /// A 640x480 scene: default body 2.2 m in front of the default camera (focal = 640 px), the
@@ -59,12 +60,14 @@ impl Default for Scene {
 }
 
 /// Ideal features of the scene: the model's own silhouette, its contours as edges (not
-/// dilated), no motion, the projected head and hands as skin points.
+/// dilated), no motion, the projected head and hands as skin points, bare forearms as the
+/// skin the arms should cover.
 pub struct Features {
     pub sil: Vec<u64>,
     pub edge: Vec<u64>,
     pub motion: Vec<u64>,
     pub skin: SkinPoints,
+    pub skin_mask: Vec<u64>,
 }
 
 /// Renders [`Features`] of a scene at 640x480.
@@ -75,9 +78,14 @@ pub fn ideal_features(s: &Scene) -> Features {
     for c in raster.contours() {
         edge.union(&c);
     }
+    let mut forearms = BitMask::new(Roi::full(640, 480));
+    for part in [Part::RightLowerArm, Part::LeftLowerArm] {
+        forearms.fill(&raster.spans(part));
+    }
     let joints = skel.joints();
     let point = |j: Joint| s.camera.project(&joints[j as usize]);
     Features {
+        skin_mask: forearms.words,
         sil: raster.union().words,
         motion: vec![0; edge.words.len()],
         edge: edge.words,
@@ -95,7 +103,9 @@ pub fn ideal_features(s: &Scene) -> Features {
 impl Features {
     /// The features as the search sees them.
     pub fn view(&self) -> FrameView<'_> {
-        FrameView::new(640, 480, &self.sil, &self.edge, &self.motion, self.skin).unwrap()
+        FrameView::new(640, 480, &self.sil, &self.edge, &self.motion, self.skin)
+            .and_then(|v| v.with_skin_mask(&self.skin_mask))
+            .unwrap()
     }
 }
 

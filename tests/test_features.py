@@ -124,6 +124,20 @@ def test_hand_point_is_far_end_with_short_sleeves(background, two_frames) -> Non
     assert np.hypot(*(np.array(blob.centroid) - truth)) > 25
 
 
+def test_cover_skin_is_the_skin_without_the_head_blob(background, two_frames) -> None:
+    first, second = two_frames
+    features = compute_features(second.frame, background, first.frame, first.joints)
+    cover = unpack_rows(features.cover_bits, 640) > 0
+    skin = features.skin > 0
+    head = features.blobs[features.head.blob]
+    hand = features.blobs[features.right_hand.blob]
+    assert head.area > 300 and not cover[head.ys, head.xs].any()
+    assert cover[hand.ys, hand.xs].all()
+    outside_head = np.ones_like(skin)
+    outside_head[head.ys, head.xs] = False
+    np.testing.assert_array_equal(cover, skin & outside_head)
+
+
 def test_hand_on_face_is_merged(plate, background) -> None:
     pose = Pose(right_x_up=1.9, right_z_up=0.6, right_x_down=2.2, left_z_up=0.6)
     scene = render_scene(pose, plate, seed=4)

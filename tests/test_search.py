@@ -95,6 +95,45 @@ def test_merged_hand_pays_its_distance_to_the_blob_box(camera: upperpose.Camera,
     assert skin((x + 30, y - 10, x + 60, y + 10), merged_skin=False) == 0.0
 
 
+@dataclass
+class BareForearm(IdealFeatures):
+    """Ideal features with a skin mask for the Cover term (`FrameFeatures.cover_bits`)."""
+
+    cover_bits: np.ndarray | None = None
+
+
+# The right forearm folded across the chest (the synthetic cross_arms keyframe), left arm out.
+ACROSS = upperpose.Pose(right_y_up=1.04, right_x_up=0.92, right_z_up=0.93, right_x_down=1.72, left_z_up=0.6)
+
+
+def test_skin_over_the_torso_left_uncovered_costs_the_arm(camera: upperpose.Camera, body: upperpose.BodyModel) -> None:
+    m = upperpose.render_masks(ACROSS, ROOT, camera, 640, 480, body)
+    forearm = m["right_lower_arm"] > 0
+    front = forearm & (m["torso"] > 0)
+    assert front.sum() > 500, "pose must put the forearm in front of the torso"
+    f = ideal(ACROSS, camera)
+    features = BareForearm(f.sil_bits, f.edge_bits, f.motion_bits, f.points, cover_bits=pack_rows(forearm))
+
+    def cover(pose: upperpose.Pose, weight: float = 12.0, feats: IdealFeatures = features) -> float:
+        config = upperpose.SearchConfig(weights={"cover": weight})
+        fit = upperpose.fit_frame(feats, pose, ROOT, body, camera, search=(), config=config)
+        assert fit.terms["torso"]["cover"] == 0.0
+        return float(fit.terms["right_arm"]["cover"])
+
+    assert cover(ACROSS) == 0.0
+    # The forearm hanging instead: the skin it left over the torso, over the arm's nominal area.
+    hanging = ACROSS.replace(right_x_down=0.3)
+    moved = upperpose.render_masks(hanging, ROOT, camera, 640, 480, body)
+    left = front & (moved["right_lower_arm"] == 0) & (moved["right_upper_arm"] == 0)
+    ppm = camera.focal / ROOT[2]
+    area = body.upper_arm_length * sum(body.upper_arm_radii) + body.lower_arm_length * sum(body.lower_arm_radii)
+    assert cover(hanging) == pytest.approx(left.sum() / (area * ppm**2), rel=0.05)
+    assert cover(hanging) > 0.3
+    # Unweighed, or without a skin mask, the term is not counted.
+    assert cover(hanging, weight=0.0) == 0.0
+    assert cover(hanging, feats=f) == 0.0
+
+
 def test_unsearched_stages_keep_the_prediction(camera: upperpose.Camera, body: upperpose.BodyModel) -> None:
     prediction = WAVE.replace(right_x_down=1.3, left_z_up=0.5)
     fit = upperpose.fit_frame(ideal(WAVE, camera), prediction, ROOT, body, camera, search=["right_arm"])

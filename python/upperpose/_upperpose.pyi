@@ -235,4 +235,5 @@ def fit_frame_bits(
     config: SearchConfig,
     angle_window_scales: npt.NDArray[np.float64] | None = None,
     merged_boxes: npt.NDArray[np.float64] | None = None,
+    skin_mask: npt.NDArray[np.uint64] | None = None,
 ) -> FrameFit: ...

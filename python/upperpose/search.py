@@ -98,7 +98,17 @@ def fit_frame(
         config or SearchConfig(),
         None if angle_window_scales is None else as_float_array(angle_window_scales, "angle_window_scales", (13,)),
         merged_boxes(features),
+        cover_bits(features),
     )
+
+
+def cover_bits(features: BitFeatures) -> npt.NDArray[np.uint64] | None:
+    """The skin the arms should cover (`FrameFeatures.cover_bits`), or None (no Cover term).
+
+    Features without `cover_bits` (test doubles) have no such skin.
+    """
+    bits = getattr(features, "cover_bits", None)
+    return None if bits is None else np.ascontiguousarray(bits, dtype=np.uint64)
 
 
 def merged_boxes(features: BitFeatures) -> npt.NDArray[np.float64] | None:

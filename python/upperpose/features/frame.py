@@ -35,7 +35,8 @@ class FrameFeatures:
         sub, edge, motion, skin0, skin, sil: I_sub, I_edge, I_motion, I_skin0, I_skin, I_sil.
         edge_dilated, motion_dilated: I_edge and I_motion dilated by `feature_dilate`.
         arm_sil: I_sil outside the torso region, or None when no torso region was known.
-        sil_bits, edge_bits, motion_bits, arm_bits: the same bit-packed, `(H, ceil(W/64))` `<u8`.
+        sil_bits, edge_bits, motion_bits, arm_bits: the same bit-packed, `(H, ceil(W/64))` `<u8`
+            (and `cover_bits`, the skin the arms should cover, computed on first use).
         blobs: valid skin blobs, largest first.
         head, right_hand, left_hand: skin points (None when absent).
         motion_flags: per-group motion flags ("torso", "right_arm", "left_arm"), or None when no
@@ -80,6 +81,19 @@ class FrameFeatures:
         The motion flags use I_motion instead (SPEC 4): this one never fires on a clothed torso.
         """
         return cv2.bitwise_and(self.mot_skin, self.mot_edge)
+
+    @functools.cached_property
+    def cover_bits(self) -> Bits:
+        """I_skin without the head's blob, bit-packed: the skin the arms should cover (Cover, docs/cost.md).
+
+        The head's blob (face, neck, hair, and a hand merged with them) is not the arms' to cover.
+        """
+        skin = self.skin
+        if self.head is not None:
+            blob = self.blobs[self.head.blob]
+            skin = skin.copy()
+            skin[blob.ys, blob.xs] = 0
+        return pack_rows(skin)
 
     @property
     def size(self) -> tuple[int, int]:

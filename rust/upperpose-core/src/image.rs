@@ -43,6 +43,8 @@ pub struct FrameView<'a> {
     /// I_motion, dilated likewise.
     pub motion: BitPlane<'a>,
     pub skin: SkinPoints,
+    /// I_skin without the head's blob, for the Cover term (docs/cost.md); `None`: no term.
+    pub skin_mask: Option<BitPlane<'a>>,
 }
 
 /// The widest image the search accepts (the cost's per-row counts are 16 bits wide).
@@ -102,7 +104,26 @@ impl<'a> FrameView<'a> {
                 stride,
             },
             skin,
+            skin_mask: None,
         })
+    }
+
+    /// The same view with the skin mask the Cover term matches (same layout as the planes).
+    pub fn with_skin_mask(mut self, words: &'a [u64]) -> Result<Self> {
+        let stride = stride_for(self.width);
+        let want = stride * self.height as usize;
+        if words.len() != want {
+            return Err(CoreError::InvalidShape {
+                name: "skin_mask",
+                expected: format!(
+                    "({}, {stride}) words for a {}x{} image",
+                    self.height, self.width, self.height
+                ),
+                got: format!("{} words", words.len()),
+            });
+        }
+        self.skin_mask = Some(BitPlane { words, stride });
+        Ok(self)
     }
 }
 
@@ -123,5 +144,14 @@ mod tests {
         assert!(
             FrameView::new(MAX_WIDTH, 1, &plane, &plane, &plane, SkinPoints::default()).is_ok()
         );
+    }
+
+    #[test]
+    fn a_skin_mask_of_another_size_is_rejected() {
+        let plane = vec![0u64; stride_for(100) * 10];
+        let view = FrameView::new(100, 10, &plane, &plane, &plane, SkinPoints::default()).unwrap();
+        assert!(view.with_skin_mask(&plane).unwrap().skin_mask.is_some());
+        let err = view.with_skin_mask(&plane[1..]).unwrap_err();
+        assert!(err.to_string().contains("skin_mask"), "{err}");
     }
 }

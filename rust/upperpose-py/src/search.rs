@@ -19,10 +19,10 @@ use crate::convert::{array_from_points, pose_from_array, vector3_from_array};
 use crate::errors::IntoPy;
 use crate::model::{PyBodyModel, PyCamera};
 
-const TERM_NAMES: [&str; 6] = ["sil", "edge", "motion", "skin", "arm", "ratio"];
+const TERM_NAMES: [&str; 7] = ["sil", "edge", "motion", "skin", "arm", "ratio", "cover"];
 
-fn terms_values(t: &CostTerms) -> [f64; 6] {
-    [t.sil, t.edge, t.motion, t.skin, t.arm, t.ratio]
+fn terms_values(t: &CostTerms) -> [f64; 7] {
+    [t.sil, t.edge, t.motion, t.skin, t.arm, t.ratio, t.cover]
 }
 
 /// Settings of the search (frozen). Every argument is keyword-only and optional.
@@ -33,7 +33,8 @@ fn terms_values(t: &CostTerms) -> [f64; 6] {
 ///     c0: annealing factor of w = c1 = c2 = c0 * e^(1 - m/M); below 1/e.
 ///     annealing: anneal (APSO); False keeps the coefficients constant (plain PSO).
 ///     max_speed: velocity clamp as a fraction of each dimension's range.
-///     weights: dict overriding some of the six cost weights (sil, edge, motion, skin, arm, ratio).
+///     weights: dict overriding some of the seven cost weights (sil, edge, motion, skin, arm,
+///         ratio, cover).
 ///     limits: "anatomical" (default) or "thesis" (Table 3.5-1).
 ///     non_penetration: reject arms passing through the torso or each other.
 ///     threads: worker threads; None uses UPPERPOSE_NUM_THREADS, else one per 64 particles (at
@@ -142,6 +143,7 @@ impl PySearchConfig {
                     "skin" => &mut x.skin,
                     "arm" => &mut x.arm,
                     "ratio" => &mut x.ratio,
+                    "cover" => &mut x.cover,
                     other => {
                         return Err(PyValueError::new_err(format!(
                             "unknown weight {other:?}; weights are {}",
@@ -305,13 +307,13 @@ impl PySearchConfig {
     fn sigma(&self) -> f64 {
         self.inner.sigma
     }
-    /// The six cost weights by term name.
+    /// The seven cost weights by term name.
     #[getter]
     fn weights(&self) -> HashMap<&'static str, f64> {
         let w: CostWeights = self.inner.weights;
         TERM_NAMES
             .into_iter()
-            .zip([w.sil, w.edge, w.motion, w.skin, w.arm, w.ratio])
+            .zip([w.sil, w.edge, w.motion, w.skin, w.arm, w.ratio, w.cover])
             .collect()
     }
 
@@ -423,6 +425,8 @@ fn plane<'a>(
 ///     points: `(3, 2)` float64 head, right-hand, left-hand skin points; NaN rows are ignored.
 ///     merged_boxes: `(3, 4)` float64 per part (x0, y0, x1, y1): the box of the merged blob
 ///         that holds the part; NaN rows (or None) for parts that are not merged.
+///     skin_mask: `(H, ceil(W/64))` uint64 bit plane of the skin the arms should cover (I_skin
+///         without the head's blob) for the Cover term; None leaves the term out.
 ///     width: image width in pixels (the planes' height gives H).
 ///     prediction: `(13,)` predicted pose.
 ///     root: `(3,)` root position in metres.
@@ -440,7 +444,8 @@ fn plane<'a>(
 ///     The `FrameFit`.
 #[pyfunction(name = "fit_frame_bits")]
 #[pyo3(signature = (sil, edge, motion, points, width, prediction, root, body, camera, mode, window_scale,
-                    frame_interval, search, frame_index, config, angle_window_scales=None, merged_boxes=None))]
+                    frame_interval, search, frame_index, config, angle_window_scales=None, merged_boxes=None,
+                    skin_mask=None))]
 #[allow(clippy::too_many_arguments)]
 pub fn fit_frame_bits_py(
     py: Python<'_>,
@@ -461,6 +466,7 @@ pub fn fit_frame_bits_py(
     config: &PySearchConfig,
     angle_window_scales: Option<PyReadonlyArray1<'_, f64>>,
     merged_boxes: Option<PyReadonlyArray2<'_, f64>>,
+    skin_mask: Option<PyReadonlyArray2<'_, u64>>,
 ) -> PyResult<PyFrameFit> {
     let mut scales = [1.0; DOF_COUNT];
     if let Some(a) = &angle_window_scales {
@@ -535,7 +541,12 @@ pub fn fit_frame_bits_py(
     }
     let height =
         u32::try_from(height).map_err(|_| PyValueError::new_err("features are too tall"))?;
-    let frame = FrameView::new(width, height, s, e, m, skin).py()?;
+    let mut frame = FrameView::new(width, height, s, e, m, skin).py()?;
+    if let Some(mask) = &skin_mask {
+        frame = frame
+            .with_skin_mask(plane("skin_mask", mask, height as usize, stride)?)
+            .py()?;
+    }
     let req = FrameRequest {
         frame,
         prediction: pose_from_array(&prediction)?,

@@ -1,6 +1,7 @@
 //! The cost of a candidate part against one frame (thesis Eq. 3.4.8-2; SPEC 5; docs/cost.md):
 //!
-//! `cost = w_sil Sil - w_edge Edge - w_motion Motion + w_skin Skin + w_arm Arm + w_ratio Ratio`
+//! `cost = w_sil Sil - w_edge Edge - w_motion Motion + w_skin Skin + w_arm Arm + w_ratio Ratio
+//!         + w_cover Cover`
 //!
 //! Each stage of the hierarchical fit scores one part (torso with neck and head, or one arm)
 //! inside one fixed region `R`, with the rest of the body (the *base*: parts already fitted or
@@ -17,7 +18,8 @@ use crate::raster::{BitMask, Roi, RowSpans, Scanner, Span};
 use nalgebra::Vector2;
 use std::borrow::Cow;
 
-/// Weights of the six terms (thesis: 3, 20, 15, 250, 4, 400 for its own normalisations).
+/// Weights of the terms (thesis: 3, 20, 15, 250, 4, 400 for its own normalisations of the
+/// first six; Cover is ours).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CostWeights {
     pub sil: f64,
@@ -26,6 +28,7 @@ pub struct CostWeights {
     pub skin: f64,
     pub arm: f64,
     pub ratio: f64,
+    pub cover: f64,
 }
 
 impl Default for CostWeights {
@@ -40,11 +43,15 @@ impl Default for CostWeights {
             skin: 3.0,
             arm: 0.0,
             ratio: 0.5,
+            cover: COVER_WEIGHT,
         }
     }
 }
 
-/// The six terms for one part, each normalised (ranges in docs/cost.md).
+/// The default weight of the Cover term (docs/cost.md).
+pub const COVER_WEIGHT: f64 = 12.0;
+
+/// The terms for one part, each normalised (ranges in docs/cost.md).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct CostTerms {
     /// `|sil ^ model| / A` (A: the part's nominal area, or `|R|`; docs/cost.md), in [0, |R| / A].
@@ -59,6 +66,9 @@ pub struct CostTerms {
     pub arm: f64,
     /// `| |model & R| / |sil & R| - 1 |`, >= 0.
     pub ratio: f64,
+    /// For arms, `|front_skin & R & !part| / A`: skin over the fitted torso that neither arm
+    /// covers (front_skin leaves out the other arm), in [0, |R| / A]; 0 for the torso.
+    pub cover: f64,
 }
 
 impl CostTerms {
@@ -68,6 +78,7 @@ impl CostTerms {
             + w.skin * self.skin
             + w.arm * self.arm
             + w.ratio * self.ratio
+            + w.cover * self.cover
     }
 }
 
@@ -223,16 +234,47 @@ const FREE: u32 = 0; // R & !base
 const SIL_FREE: u32 = 1; // R & !base & sil
 const EDGE: u32 = 2;
 const MOTION: u32 = 3;
-/// Lanes of the Arm term's table.
+/// Lanes of the arm stages' table.
 const OUTSIDE: u32 = 0; // R & !torso
 const ARM_SIL: u32 = 1; // R & !torso & sil: the arm silhouette
+const FRONT_SKIN: u32 = 2; // R & front_skin
 
 /// What an arm stage matches besides the silhouette: the arm silhouette (silhouette outside
-/// the torso region, thesis 3.4.5) against the part outside that region.
+/// the torso region, thesis 3.4.5) against the part outside that region, and the skin in
+/// front of the torso that the part should cover (Cover). Either may be left out.
 #[derive(Debug, Clone)]
 struct ArmPlanes {
     counts: CountTable,
-    feature_area: f64,
+    /// `|arm_sil & R|`, when the Arm term is counted.
+    feature_area: Option<f64>,
+    /// `|front_skin & R|`, when the Cover term is counted.
+    cover_area: Option<f64>,
+}
+
+/// The full-frame masks a stage is scored with, besides the frame's features.
+#[derive(Debug, Clone, Copy)]
+pub struct StageMasks<'m> {
+    /// The rest of the body, drawn as it stands.
+    pub base: &'m BitMask,
+    /// The fitted torso, neck and head: for arm stages whose Arm term is weighed.
+    pub torso: Option<&'m BitMask>,
+    /// The skin over the fitted torso cone that the other arm leaves uncovered: for arm stages
+    /// whose Cover term is weighed.
+    pub front_skin: Option<&'m BitMask>,
+    /// The other arm: its edge and motion pixels do not count for the candidate.
+    pub claimed: Option<&'m BitMask>,
+}
+
+impl<'m> StageMasks<'m> {
+    /// Only the base: no Arm or Cover term, every edge and motion pixel counts.
+    pub fn base(base: &'m BitMask) -> Self {
+        StageMasks {
+            base,
+            torso: None,
+            front_skin: None,
+            claimed: None,
+        }
+    }
 }
 
 /// Everything about one stage's region that does not depend on the candidate.
@@ -267,9 +309,19 @@ fn count(words: &[u64]) -> f64 {
     words.iter().map(|w| f64::from(w.count_ones())).sum()
 }
 
+/// The count of the rows of `roi` that are multiples of `step`, times `step`: what a
+/// candidate's sampled counts are compared with.
+fn sampled_count(words: &[u64], stride: usize, roi: Roi, step: i32) -> f64 {
+    let step = step.max(1);
+    let rows = (roi.y..roi.y + roi.height as i32).filter(|y| y % step == 0);
+    let n: f64 = rows
+        .map(|y| count(&words[y as usize * stride..(y as usize + 1) * stride]))
+        .sum();
+    n * f64::from(step)
+}
+
 impl StageRegion {
-    /// Prepares a stage: `base` is a full-frame mask of the rest of the body; `torso` (for arm
-    /// stages whose Arm term is weighed) a full-frame mask of the fitted torso, neck and head.
+    /// Prepares a stage with the masks of [`StageMasks`].
     /// Candidates are counted on rows that are multiples of `row_step` (see [`evaluate`]) and
     /// only inside `reach`, the part of `roi` they can cover: the running counts are built there.
     /// Edge and motion pixels under `claimed` (the other arm) do not count for the candidate,
@@ -280,10 +332,14 @@ impl StageRegion {
         roi: Roi,
         reach: Roi,
         row_step: i32,
-        base: &BitMask,
-        torso: Option<&BitMask>,
-        claimed: Option<&BitMask>,
+        masks: StageMasks<'_>,
     ) -> Self {
+        let StageMasks {
+            base,
+            torso,
+            front_skin,
+            claimed,
+        } = masks;
         let r = region_mask(frame.width, frame.height, roi);
         let stride = r.stride;
         let sil = frame.sil.words;
@@ -301,19 +357,27 @@ impl StageRegion {
         let base_in = zip(&|i| r.words[i] & base.words[i]);
         let sil_in = zip(&|i| r.words[i] & sil[i]);
         let counts = CountTable::new(reach, row_step, stride, [&free, &sil_free, &edge, &motion]);
-        let arm = torso.map(|t| {
-            let outside = zip(&|i| r.words[i] & !t.words[i]);
-            let feature = zip(&|i| outside[i] & sil[i]);
-            let feature_area = count(&feature);
+        let arm = (torso.is_some() || front_skin.is_some()).then(|| {
             let none = vec![0; r.words.len()];
+            let (outside, feature) = match torso {
+                Some(t) => {
+                    let outside = zip(&|i| r.words[i] & !t.words[i]);
+                    let feature = zip(&|i| outside[i] & sil[i]);
+                    (outside, feature)
+                }
+                None => (none.clone(), none.clone()),
+            };
+            let front =
+                front_skin.map_or_else(|| none.clone(), |f| zip(&|i| r.words[i] & f.words[i]));
             ArmPlanes {
                 counts: CountTable::new(
                     reach,
                     row_step,
                     stride,
-                    [&outside, &feature, &none, &none],
+                    [&outside, &feature, &front, &none],
                 ),
-                feature_area,
+                feature_area: torso.map(|_| count(&feature)),
+                cover_area: front_skin.map(|_| sampled_count(&front, stride, roi, row_step)),
             }
         });
         StageRegion {
@@ -348,6 +412,7 @@ struct UnionCounts {
     sil_free: i64,
     arm_out: i64,
     arm_feat: i64,
+    front_skin: i64,
 }
 
 impl UnionCounts {
@@ -361,6 +426,7 @@ impl UnionCounts {
             let c = a.counts.row(r).run(x0, x1);
             self.arm_out += sign * i64::from(lane(c, OUTSIDE));
             self.arm_feat += sign * i64::from(lane(c, ARM_SIL));
+            self.front_skin += sign * i64::from(lane(c, FRONT_SKIN));
         }
     }
 }
@@ -487,16 +553,18 @@ pub fn evaluate(
         sil_free,
         arm_out,
         arm_feat,
+        front_skin,
     } = union;
 
     let contour = f64::from(contour.max(1));
     let k = f64::from(step);
     // Exact: the counts are integers far below 2^53.
-    let (free, sil_free, arm_out, arm_feat) = (
+    let (free, sil_free, arm_out, arm_feat, front_skin) = (
         k * free as f64,
         k * sil_free as f64,
         k * arm_out as f64,
         k * arm_feat as f64,
+        k * front_skin as f64,
     );
     let model_area = region.base_area + free;
     let skin_sum: f64 = skin.iter().map(SkinPair::distance).sum();
@@ -505,10 +573,17 @@ pub fn evaluate(
         edge: f64::from(edge) / contour,
         motion: f64::from(motion) / contour,
         skin: skin_sum / shoulder_px.max(1.0),
-        arm: region.arm.as_ref().map_or(0.0, |a| {
-            (a.feature_area + arm_out - 2.0 * arm_feat) / region.sil_norm
-        }),
+        arm: region
+            .arm
+            .as_ref()
+            .and_then(|a| a.feature_area)
+            .map_or(0.0, |f| (f + arm_out - 2.0 * arm_feat) / region.sil_norm),
         ratio: (model_area / region.sil_area.max(1.0) - 1.0).abs(),
+        cover: region
+            .arm
+            .as_ref()
+            .and_then(|a| a.cover_area)
+            .map_or(0.0, |f| (f - front_skin) / region.sil_norm),
     }
 }
 
@@ -573,7 +648,16 @@ mod tests {
             FrameView::new(200, 200, &mask.words, &everywhere, &everywhere, no_skin).unwrap();
         let base = BitMask::new(full);
         let score = |claimed: Option<&BitMask>| {
-            let region = StageRegion::new(&frame, full, full, 1, &base, None, claimed);
+            let region = StageRegion::new(
+                &frame,
+                full,
+                full,
+                1,
+                StageMasks {
+                    claimed,
+                    ..StageMasks::base(&base)
+                },
+            );
             evaluate(&region, &[piece], &[], 60.0, &mut Scratch::default())
         };
         let open = score(None);
@@ -591,7 +675,7 @@ mod tests {
         let no_skin = SkinPoints::default();
         let frame = FrameView::new(200, 200, &nothing, &nothing, &nothing, no_skin).unwrap();
         let base = BitMask::new(full);
-        let region = StageRegion::new(&frame, full, full, 1, &base, None, None);
+        let region = StageRegion::new(&frame, full, full, 1, StageMasks::base(&base));
         let score = |r: &StageRegion| evaluate(r, &[piece], &[], 60.0, &mut Scratch::default()).sil;
         // The cone on an empty silhouette: every pixel of it is a mismatch.
         let n = mask.count() as f64;
@@ -626,8 +710,8 @@ mod tests {
         })
     }
 
-    /// The union, contour and area counts of `evaluate` against counting pixel by pixel, for
-    /// overlapping pieces (inclusion-exclusion) and for sampled rows.
+    /// The union, contour and area counts of `evaluate` (Sil, Edge, Motion, Cover) against
+    /// counting pixel by pixel, for overlapping pieces (inclusion-exclusion) and sampled rows.
     #[test]
     fn counts_match_pixel_by_pixel() {
         let (w, h) = (150u32, 120u32);
@@ -636,6 +720,8 @@ mod tests {
         let frame = FrameView::new(w, h, &sil, &edge, &motion, SkinPoints::default()).unwrap();
         let mut base = BitMask::new(Roi::full(w, h));
         base.words.copy_from_slice(&noise(n, 4));
+        let mut front = BitMask::new(Roi::full(w, h));
+        front.words.copy_from_slice(&noise(n, 5));
         let roi = Roi {
             x: 5,
             y: 3,
@@ -658,7 +744,16 @@ mod tests {
             ],
         ];
         for step in [1, 2, 3] {
-            let region = StageRegion::new(&frame, roi, roi, step, &base, None, None);
+            let region = StageRegion::new(
+                &frame,
+                roi,
+                roi,
+                step,
+                StageMasks {
+                    front_skin: Some(&front),
+                    ..StageMasks::base(&base)
+                },
+            );
             for pieces in &groups {
                 let got = evaluate(&region, pieces, &[], 100.0, &mut Scratch::default());
                 // Pixel by pixel over the sampled rows.
@@ -666,14 +761,19 @@ mod tests {
                     let s = p.span(y, &roi);
                     x >= s.x0 && x < s.x1
                 };
-                let (mut free, mut sil_free) = (0.0, 0.0);
+                let (mut free, mut sil_free, mut front_all, mut front_under) = (0.0, 0.0, 0.0, 0.0);
                 let (mut contour, mut on_edge, mut on_motion) = (0.0, 0.0, 0.0);
                 let bit = |plane: &[u64], x: i32, y: i32| {
                     plane[y as usize * stride_for(w) + x as usize / 64] >> (x % 64) & 1 == 1
                 };
                 for y in (roi.y..roi.y + roi.height as i32).filter(|y| y % step == 0) {
                     for x in roi.x..roi.x + roi.width as i32 {
-                        if pieces.iter().any(|p| inside(p, x, y)) && !bit(&base.words, x, y) {
+                        let in_part = pieces.iter().any(|p| inside(p, x, y));
+                        if bit(&front.words, x, y) {
+                            front_all += 1.0;
+                            front_under += f64::from(u8::from(in_part));
+                        }
+                        if in_part && !bit(&base.words, x, y) {
                             free += 1.0;
                             sil_free += f64::from(u8::from(bit(&sil, x, y)));
                         }
@@ -694,6 +794,9 @@ mod tests {
                 assert_eq!(got.sil, want_sil, "step {step}");
                 assert_eq!(got.edge, on_edge / contour, "step {step}");
                 assert_eq!(got.motion, on_motion / contour, "step {step}");
+                let want_cover = k * (front_all - front_under) / region.sil_norm;
+                assert_eq!(got.cover, want_cover, "step {step}");
+                assert!(got.cover > 0.0 && got.cover < k * front_all / region.sil_norm);
             }
         }
     }

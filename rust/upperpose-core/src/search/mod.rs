@@ -23,7 +23,7 @@ use crate::pose::{Dof, DofRange, JointLimits, Pose, DOF_COUNT};
 use crate::raster::{BitMask, Roi, Scanner};
 use crate::solid::{solid_of_part, Part};
 use apso::SwarmConfig;
-use cost::{evaluate, CostTerms, CostWeights, Scratch, SkinPair, StageRegion};
+use cost::{evaluate, CostTerms, CostWeights, Scratch, SkinPair, StageMasks, StageRegion};
 use nalgebra::Vector3;
 pub use optimizer::Optimizer;
 
@@ -514,24 +514,42 @@ fn run_stage(
             req.frame.height,
         )
     };
-    // The other arm is drawn once: it is part of the base and, for the edge mask, on its own.
-    let claimed_parts = match stage.other_arm() {
-        Some(other) if config.mask_other_arm_edges => other.parts(),
+    // The Cover term is only counted when it is weighed and the frame has a skin mask.
+    let skin_mask = req
+        .frame
+        .skin_mask
+        .filter(|_| stage.side().is_some() && config.weights.cover != 0.0);
+    // The other arm is drawn once: it is part of the base and, for the edge mask and the
+    // skin it already covers, on its own.
+    let other_parts = match stage.other_arm() {
+        Some(other) if config.mask_other_arm_edges || skin_mask.is_some() => other.parts(),
         _ => &[],
     };
-    let claimed = (!claimed_parts.is_empty()).then(|| draw(claimed_parts));
+    let other = (!other_parts.is_empty()).then(|| draw(other_parts));
     let rest: Vec<Part> = Part::ALL
         .iter()
         .copied()
-        .filter(|p| !stage.parts().contains(p) && !claimed_parts.contains(p))
+        .filter(|p| !stage.parts().contains(p) && !other_parts.contains(p))
         .collect();
     let mut base = draw(&rest);
-    if let Some(arm) = &claimed {
+    if let Some(arm) = &other {
         base.union(arm);
     }
+    let claimed = other.as_ref().filter(|_| config.mask_other_arm_edges);
     // The Arm term is only counted when it is weighed.
     let torso =
         (stage.side().is_some() && config.weights.arm != 0.0).then(|| draw(Stage::Torso.parts()));
+    // Skin over the torso cone (not the neck or head) that the other arm leaves uncovered.
+    let front_skin = skin_mask.map(|skin| {
+        let mut front = draw(&[Part::Torso]);
+        for (w, s) in front.words.iter_mut().zip(skin.words) {
+            *w &= s;
+        }
+        if let Some(arm) = &other {
+            front.subtract(arm);
+        }
+        front
+    });
     // A stage that is not searched is scored once, where it stands: count only around that.
     let reach = if req.search[stage as usize] {
         roi
@@ -544,9 +562,12 @@ fn run_stage(
         roi,
         reach,
         step,
-        &base,
-        torso.as_ref(),
-        claimed.as_ref(),
+        StageMasks {
+            base: &base,
+            torso: torso.as_ref(),
+            front_skin: front_skin.as_ref(),
+            claimed,
+        },
     );
     if config.sil_by_part_area {
         let ppm = pixels_per_metre(&req.camera, root);

@@ -82,6 +82,7 @@ pub fn effective(config: &SearchConfig) -> Cow<'_, SearchConfig> {
                 skin: 0.0,
                 arm: 0.0,
                 ratio: 0.0,
+                cover: 0.0,
             };
             c.behind_weight = 0.0;
             c.turn_weight = 0.0;
