@@ -132,6 +132,9 @@ def test_skin_over_the_torso_left_uncovered_costs_the_arm(camera: upperpose.Came
     # Unweighed, or without a skin mask, the term is not counted.
     assert cover(hanging, weight=0.0) == 0.0
     assert cover(hanging, feats=f) == 0.0
+    wrong = BareForearm(f.sil_bits, f.edge_bits, f.motion_bits, f.points, cover_bits=pack_rows(forearm[:-1]))
+    with pytest.raises(ValueError, match="skin_mask must have shape"):
+        cover(hanging, feats=wrong)
 
 
 def test_unsearched_stages_keep_the_prediction(camera: upperpose.Camera, body: upperpose.BodyModel) -> None:
