@@ -151,11 +151,16 @@ class FeatureExtractor:
         if not cfg.person_skin or self.background.estimated:
             return None
         relit = self._plate_for(check_frame(frame, "frame", self.background.size))[3]
+        # The model reads the generic rule inside the face box only (the rule is per pixel).
+        x, y, w, h = face
+        box = (slice(max(y, 0), max(y + h, 0)), slice(max(x, 0), max(x + w, 0)))
+        skin = np.zeros(relit.shape[:2], np.uint8)
+        if skin[box].size:
+            skin[box] = skin_mask(np.ascontiguousarray(relit[box]), cfg)
         self.person_skin = PersonSkin.from_face(
-            relit, face, skin_mask(relit, cfg), cfg.person_skin_sigmas, cfg.person_skin_min_hue_spread,
+            relit, face, skin, cfg.person_skin_sigmas, cfg.person_skin_min_hue_spread,
             cfg.person_skin_min_saturation_spread,
         )  # fmt: skip
-        x, y, w, h = face
         self._face_zone = ((x + w / 2, y + h / 2), HEAD_ZONE_FACES * w)
         if self.person_skin is not None:
             # The room in the person's skin colour, as `Background.skin` is in the generic rule's.
