@@ -358,26 +358,22 @@ impl StageRegion {
         let sil_in = zip(&|i| r.words[i] & sil[i]);
         let counts = CountTable::new(reach, row_step, stride, [&free, &sil_free, &edge, &motion]);
         let arm = (torso.is_some() || front_skin.is_some()).then(|| {
+            let outside = torso.map(|t| zip(&|i| r.words[i] & !t.words[i]));
+            let feature = outside.as_ref().map(|o| zip(&|i| o[i] & sil[i]));
+            let front = front_skin.map(|f| zip(&|i| r.words[i] & f.words[i]));
             let none = vec![0; r.words.len()];
-            let (outside, feature) = match torso {
-                Some(t) => {
-                    let outside = zip(&|i| r.words[i] & !t.words[i]);
-                    let feature = zip(&|i| outside[i] & sil[i]);
-                    (outside, feature)
-                }
-                None => (none.clone(), none.clone()),
-            };
-            let front =
-                front_skin.map_or_else(|| none.clone(), |f| zip(&|i| r.words[i] & f.words[i]));
+            let planes = [&outside, &feature, &front].map(|p| p.as_deref().unwrap_or(&none));
             ArmPlanes {
                 counts: CountTable::new(
                     reach,
                     row_step,
                     stride,
-                    [&outside, &feature, &front, &none],
+                    [planes[0], planes[1], planes[2], &none],
                 ),
-                feature_area: torso.map(|_| count(&feature)),
-                cover_area: front_skin.map(|_| sampled_count(&front, stride, roi, row_step)),
+                feature_area: feature.as_deref().map(count),
+                cover_area: front
+                    .as_deref()
+                    .map(|f| sampled_count(f, stride, roi, row_step)),
             }
         });
         StageRegion {
