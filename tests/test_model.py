@@ -12,6 +12,7 @@ from hypothesis import strategies as st
 
 import upperpose
 from conftest import random_pose
+from upperpose.model import penetrates
 
 
 def test_rest_pose_joints_match_hand_computed_values(body: upperpose.BodyModel) -> None:
@@ -199,3 +200,37 @@ def test_joint_limit_presets() -> None:
     assert x_up == [(0.0, math.pi / 3), (math.pi / 1.4, math.pi)]
     with pytest.raises(ValueError, match="preset must be"):
         upperpose.joint_limits("yoga")
+
+
+def _segment_gap(p0: np.ndarray, p1: np.ndarray, q0: np.ndarray, q1: np.ndarray) -> float:
+    """Closest distance of two segments by dense sampling (a reference independent of the core)."""
+    s = np.linspace(0.0, 1.0, 801)[:, None]
+    p, q = p0 + (p1 - p0) * s, q0 + (q1 - q0) * s
+    return float(min(np.linalg.norm(p - qi, axis=1).min() for qi in q))
+
+
+def test_penetrates_flags_the_trunk_and_arms_closer_than_half_their_radii(body: upperpose.BodyModel) -> None:
+    root = np.array([0.0, 0.0, 2.2])
+    assert not penetrates(upperpose.Pose(), root, body)
+    assert not penetrates(upperpose.Pose.a_pose(), root, body)
+    # Adducted across the chest without flexing forwards: the upper arm runs through the torso.
+    assert penetrates({"right_z_up": -0.3, "right_y_up": 1.5, "right_x_down": 1.6}, root, body)
+    # Forearms swung together in front of the chest: the rule is the arms' closest approach
+    # against half their summed mean radii (upper arm and forearm take their own radius).
+    d = body.as_dict()
+    r = {"upper": sum(d["upper_arm_radii"]) / 2, "lower": sum(d["lower_arm_radii"]) / 2}
+    decided = set()
+    for swing in np.linspace(0.2, 0.9, 36):
+        side = {"y_up": float(swing), "x_up": 0.47, "z_up": 0.32, "x_down": 1.61}
+        pose = {f"{s}_{k}": v for s in ("right", "left") for k, v in side.items()}
+        j = upperpose.forward_kinematics(pose, root, body)
+        arms = [[(j[1], j[3], "upper"), (j[3], j[5], "lower")], [(j[2], j[4], "upper"), (j[4], j[6], "lower")]]
+        slack = min(
+            _segment_gap(a0, a1, b0, b1) - 0.5 * (r[ra] + r[rb]) for a0, a1, ra in arms[0] for b0, b1, rb in arms[1]
+        )
+        if abs(slack) > 1e-3:  # away from the boundary, where sampling decides nothing
+            assert penetrates(pose, root, body) == (slack < 0), swing
+            decided.add(slack < 0)
+    assert decided == {True, False}
+    with pytest.raises(ValueError, match="root"):
+        penetrates(upperpose.Pose(), [0.0, np.nan, 2.0], body)

@@ -19,6 +19,7 @@ __all__ = [
     "fit_frame_bits",
     "forward_kinematics",
     "joint_limits",
+    "penetrates",
     "render_masks",
     "skeleton",
     "solids",
@@ -114,6 +115,7 @@ def skeleton(
 def solids(
     pose: npt.NDArray[np.float64], root: npt.NDArray[np.float64], body: BodyModel
 ) -> list[dict[str, object]]: ...
+def penetrates(pose: npt.NDArray[np.float64], root: npt.NDArray[np.float64], body: BodyModel) -> bool: ...
 def joint_limits(preset: str = "anatomical") -> list[list[tuple[float, float]]]: ...
 def render_masks(
     pose: npt.NDArray[np.float64],

@@ -136,6 +136,11 @@ def solids(pose: PoseLike, root: npt.ArrayLike, body: BodyModel | None = None) -
     return _upperpose.solids(pose_array(pose), as_float_array(root, "root", (3,)), body or BodyModel())
 
 
+def penetrates(pose: PoseLike, root: npt.ArrayLike, body: BodyModel | None = None) -> bool:
+    """Whether the pose breaks the search's non-penetration rule (see `_upperpose.penetrates`)."""
+    return _upperpose.penetrates(pose_array(pose), as_float_array(root, "root", (3,)), body or BodyModel())
+
+
 def project(camera: Camera, points: npt.ArrayLike) -> FloatArray:
     """Projects `(N, 3)` points in metres to `(N, 2)` pixels (NaN where a pinhole cannot see)."""
     return camera.project(as_float_array(points, "points", (None, 3)))
@@ -186,6 +191,7 @@ __all__ = [
     "Pose",
     "as_float_array",
     "forward_kinematics",
+    "penetrates",
     "pose_array",
     "project",
     "render_masks",

@@ -158,7 +158,7 @@ def plan_clip(config: ClipConfig) -> ClipPlan:
         side = -1.0 if rng.random() < 0.5 else 1.0
         walk = min_jerk((times - EMPTY_SECONDS) / WALK_IN_SECONDS)
         roots[:, 0] += side * 1.6 * depth / 2.2 * (1.0 - walk)
-    angles = motion_angles(config.motion, n, fps, rng, a_pose_seconds=1.0)
+    angles = motion_angles(config.motion, n, fps, rng, body, a_pose_seconds=1.0)
     if start > 0:
         shift = int(round(start * fps))
         angles = np.vstack([np.repeat(angles[:1], shift, axis=0), angles])[:n]

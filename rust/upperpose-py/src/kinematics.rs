@@ -5,6 +5,7 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use upperpose_core::nalgebra::Matrix3;
+use upperpose_core::search::constraints::pose_penetrates;
 use upperpose_core::solid::{solid_of_part, Solid};
 use upperpose_core::{skeleton_from_pose, Dof, JointLimits, Part, Skeleton, PART_NAMES};
 
@@ -83,6 +84,24 @@ pub fn skeleton_py<'py>(
     d.set_item("left_upper", matrix(py, &s.left.upper)?)?;
     d.set_item("left_lower", matrix(py, &s.left.lower)?)?;
     Ok(d)
+}
+
+/// Whether either arm of a pose breaks the search's non-penetration rule (SPEC 5): a bone
+/// inside the torso, or the two arms' cones overlapping by more than half their radii.
+///
+/// Args:
+///     pose: `(13,)` float64 joint angles in radians.
+///     root: `(3,)` float64 root position in metres.
+///     body: body dimensions.
+#[pyfunction(name = "penetrates")]
+pub fn penetrates_py(
+    pose: PyReadonlyArray1<'_, f64>,
+    root: PyReadonlyArray1<'_, f64>,
+    body: &PyBodyModel,
+) -> PyResult<bool> {
+    let pose = pose_from_array(&pose)?;
+    let root = vector3_from_array("root", &root)?;
+    Ok(pose_penetrates(&pose, &root, &body.inner))
 }
 
 /// The body model's solids for a pose, one dict per part in `PART_NAMES` order.
