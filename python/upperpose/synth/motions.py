@@ -16,7 +16,7 @@ from collections.abc import Callable
 import numpy as np
 import numpy.typing as npt
 
-from upperpose.model import ANGLE_NAMES, BodyModel, Pose, penetrates, skeleton
+from upperpose.model import ANGLE_NAMES, BodyModel, Pose, forward_kinematics, penetrates
 
 FloatArray = npt.NDArray[np.float64]
 Key = dict[str, float]  # arm settings: y_up, x_up, z_up, x_down (left arm mirrors right)
@@ -43,6 +43,7 @@ ARMS: dict[str, Key] = {
 # Safe sub-ranges for the random walk (radians): arms stay clear of the trunk.
 WALK_RANGES = {"y_up": (-0.8, 0.8), "x_up": (-0.3, 1.6), "z_up": (0.25, 1.8), "x_down": (0.0, 1.8)}
 A_POSE_SECONDS = 1.0
+WALK_STEPS = 12  # random-walk keyframes per loop
 WALK_TRIES = 100  # random-walk targets drawn at most per step before holding still
 ARMS_CHECK_ROOT = np.array([0.0, 0.0, 2.2])  # any root: the arm checks are torso-relative
 
@@ -146,8 +147,8 @@ def _cross(rng: np.random.Generator, body: BodyModel) -> Keys:
 
 def _hand_gap(arm: Key, body: BodyModel) -> float:
     """Distance between the hands, metres, with both arms at the mirrored setting `arm`."""
-    joints = skeleton(_pose(arm, arm), ARMS_CHECK_ROOT, body)["joints"]
-    return float(np.linalg.norm(joints[5] - joints[6]))
+    joints = forward_kinematics(_pose(arm, arm), ARMS_CHECK_ROOT, body)
+    return float(np.linalg.norm(joints[5] - joints[6]))  # right and left hand
 
 
 def _clap_in(body: BodyModel) -> Key:
@@ -186,7 +187,7 @@ def _random_walk(rng: np.random.Generator, body: BodyModel) -> Keys:
     a = _pose(A_ARM, A_ARM)
     steps: Keys = []
     prev = a
-    for step in range(12):
+    for step in range(WALK_STEPS):
         for _ in range(WALK_TRIES):
             arms = [{k: float(rng.uniform(*r)) for k, r in WALK_RANGES.items()} for _ in range(2)]
             torso = {
@@ -196,7 +197,7 @@ def _random_walk(rng: np.random.Generator, body: BodyModel) -> Keys:
             }
             target = _pose(arms[0], arms[1], torso)
             # The last target must also clear the way back to the A-pose.
-            if keeps_apart(prev, target, body) and (step < 11 or keeps_apart(target, a, body)):
+            if keeps_apart(prev, target, body) and (step < WALK_STEPS - 1 or keeps_apart(target, a, body)):
                 break
         else:
             target = prev  # no clear way found: hold still (1 draw in 260 is redrawn, none held)
