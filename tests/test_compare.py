@@ -11,7 +11,7 @@ import upperpose
 from tracker_helpers import clip
 from upperpose.cli import build_parser, main
 from upperpose.commands.track import tracker_config
-from upperpose.compare import Method, find_clips, run_all
+from upperpose.lab.compare import Method, find_clips, run_all
 
 
 @pytest.mark.parametrize("optimizer", ["apso", "pso", "simplex", "apsopf"])

@@ -11,8 +11,8 @@ import numpy as np
 import pytest
 
 from upperpose.cli import main
-from upperpose.evaluate import evaluate, format_table
-from upperpose.posefile import make_poses, validate_poses, write_poses
+from upperpose.io.posefile import make_poses, validate_poses, write_poses
+from upperpose.lab.evaluate import evaluate, format_table
 
 
 def truth(n: int = 60, seed: int = 0, empty: int = 0) -> dict[str, Any]:

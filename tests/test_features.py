@@ -16,8 +16,8 @@ from upperpose.features import (
     compute_features,
     unpack_rows,
 )
-from upperpose.features.scene import render_scene, textured_background
 from upperpose.features.skin import skin_mask
+from upperpose.lab.feature_scene import render_scene, textured_background
 
 A_POSE = Pose.a_pose()
 MOVED = A_POSE.replace(right_z_up=0.85, right_x_down=0.3)

@@ -16,8 +16,8 @@ from upperpose.features import (
 from upperpose.features.background import iterative_masked_median
 from upperpose.features.config import PersonTemplate
 from upperpose.features.person_cut import grabcut_seed, person_in_median
-from upperpose.features.scene import textured_background
-from upperpose.synth import ClipConfig, plan_clip, render_frame
+from upperpose.lab.feature_scene import textured_background
+from upperpose.lab.synth import ClipConfig, plan_clip, render_frame
 
 H, W = 96, 128
 

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from upperpose import Pose, cli
-from upperpose.features.scene import render_scene, textured_background
+from upperpose.lab.feature_scene import render_scene, textured_background
 
 H, W = 240, 320
 

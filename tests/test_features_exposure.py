@@ -9,8 +9,8 @@ from hypothesis import strategies as st
 from upperpose.features import Background, FeatureConfig, FeatureExtractor
 from upperpose.features.background import shows_a_face
 from upperpose.features.exposure import channel_gains, needs_compensation
-from upperpose.features.scene import textured_background
-from upperpose.synth import ClipConfig, plan_clip, render_frame
+from upperpose.lab.feature_scene import textured_background
+from upperpose.lab.synth import ClipConfig, plan_clip, render_frame
 
 H, W = 120, 160
 

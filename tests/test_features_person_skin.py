@@ -8,8 +8,8 @@ import pytest
 from upperpose import Camera, Pose, forward_kinematics
 from upperpose.features import Background, FeatureConfig, FeatureExtractor
 from upperpose.features.person_skin import PersonSkin
-from upperpose.features.scene import render_scene, textured_background
 from upperpose.features.skin import skin_mask
+from upperpose.lab.feature_scene import render_scene, textured_background
 
 CONFIG = FeatureConfig()
 # BGR, light to dark (the generic rule's test tones), and cloth that the generic rule takes.

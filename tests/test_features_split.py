@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from upperpose.features import POINT_FOUND, POINT_MERGED, Background, FeatureConfig, compute_features
-from upperpose.features.scene import SKIN_BGR
+from upperpose.lab.feature_scene import SKIN_BGR
 
 WALL_BGR = (190, 195, 200)
 SHIRT_BGR = (150, 90, 50)

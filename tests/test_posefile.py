@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from upperpose.posefile import load_poses, make_poses, write_poses
+from upperpose.io.posefile import load_poses, make_poses, write_poses
 
 
 def frame(i: int, status: str = "tracked", offset: float = 0.0) -> dict[str, object]:

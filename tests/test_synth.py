@@ -11,10 +11,9 @@ import pytest
 
 from upperpose import joint_limits
 from upperpose.cli import main
-from upperpose.evaluate import evaluate
-from upperpose.model import forward_kinematics, penetrates
-from upperpose.posefile import load_poses
-from upperpose.synth import (
+from upperpose.io.posefile import load_poses
+from upperpose.lab.evaluate import evaluate
+from upperpose.lab.synth import (
     DEVSET,
     MOTIONS,
     Appearance,
@@ -26,9 +25,10 @@ from upperpose.synth import (
     render_frame,
     write_clip,
 )
-from upperpose.synth.appearance import BUILDS, body_for_build
-from upperpose.synth.devset import holdout_set
-from upperpose.synth.scene import EMPTY_SECONDS, WALK_IN_SECONDS
+from upperpose.lab.synth.appearance import BUILDS, body_for_build
+from upperpose.lab.synth.devset import holdout_set
+from upperpose.lab.synth.scene import EMPTY_SECONDS, WALK_IN_SECONDS
+from upperpose.model import forward_kinematics, penetrates
 
 SMALL = {"width": 320, "height": 240}
 

@@ -11,21 +11,21 @@ import cv2
 import numpy as np
 import pytest
 
-import upperpose.tracker.tracker as tracker_module
+import upperpose.fit.tracker as tracker_module
 from tracker_helpers import TruthFitter, clip, truth
 from upperpose.cli import main
+from upperpose.io.output import PoseRecorder, csv_header
+from upperpose.io.posefile import load_poses
+from upperpose.io.video import VideoReader
 from upperpose.model import ANGLE_NAMES, JOINT_NAMES
-from upperpose.posefile import load_poses
-from upperpose.tracker.output import PoseRecorder, csv_header
-from upperpose.tracker.tracker import TrackResult
-from upperpose.tracker.video import VideoReader
+from upperpose.result import TrackResult
 
 
 @pytest.fixture
 def fake_search(monkeypatch: pytest.MonkeyPatch) -> TruthFitter:
     """Replaces the Rust search with the truth double for the whole command."""
     fitter = TruthFitter(truth(clip()))
-    monkeypatch.setattr(tracker_module, "default_fitter", lambda: fitter)
+    monkeypatch.setattr(tracker_module, "fit_frame", fitter)
     return fitter
 
 
@@ -225,6 +225,7 @@ def test_same_seed_same_poses(tmp_path: Path, capsys: pytest.CaptureFixture[str]
         assert code == 0
         doc = json.loads(out.read_text())
         doc.pop("run_time_s")
+        assert doc["settings"].pop("threads") == int(threads)
         docs.append(doc)
     assert docs[0] == docs[1]
     assert any(f["status"] == "tracked" for f in docs[0]["frames"])

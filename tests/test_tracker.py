@@ -13,10 +13,10 @@ from tracker_helpers import PART_ANGLES, TruthFitter, camera_of, clip, truth
 from upperpose.features.faces import FaceDetector
 from upperpose.features.packing import pack_rows
 from upperpose.features.points import SkinPoint
-from upperpose.tracker import INITIALISING, LOST, NO_PERSON, TRACKED, StateMachine, StaticFit, Tracker, TrackerConfig
-from upperpose.tracker.recovery import DoubtDetector, HandFollower, LostDetector, unexplained_by_side
-from upperpose.tracker.root import RootEstimator
-from upperpose.tracker.startup import (
+from upperpose.fit import INITIALISING, LOST, NO_PERSON, TRACKED, StateMachine, StaticFit, Tracker, TrackerConfig
+from upperpose.fit.recovery import DoubtDetector, HandFollower, LostDetector, unexplained_by_side
+from upperpose.fit.root import RootEstimator
+from upperpose.fit.startup import (
     StartupFit,
     check_apose,
     depth_from_face,
@@ -25,7 +25,7 @@ from upperpose.tracker.startup import (
     root_from_head,
     widened,
 )
-from upperpose.tracker.video import VideoReader
+from upperpose.io.video import VideoReader
 
 # -- pure units -------------------------------------------------------------------------------
 

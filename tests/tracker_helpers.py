@@ -16,8 +16,8 @@ from typing import Any
 import numpy as np
 
 import upperpose
-from upperpose.synth import ClipConfig, write_clip
-from upperpose.tracker import PARTS, StaticFit
+from upperpose.fit import PARTS, StaticFit
+from upperpose.lab.synth import ClipConfig, write_clip
 
 CLIP = ClipConfig(motion="wave_right", frames=50, fps=15.0, width=320, height=240, depth=2.0, empty_start=True, seed=5)
 

@@ -6,6 +6,9 @@ is projected into each frame and matched against image features.
 
 from upperpose._upperpose import __version__, joint_limits
 from upperpose.exceptions import UpperposeError, VideoError
+from upperpose.fit import Tracker, TrackerConfig, TrackResult
+from upperpose.fit.pipeline import track_video
+from upperpose.fit.search import FrameFit, SearchConfig, fit_frame
 from upperpose.model import (
     ANGLE_NAMES,
     JOINT_NAMES,
@@ -19,9 +22,6 @@ from upperpose.model import (
     skeleton,
     solids,
 )
-from upperpose.pipeline import track_video
-from upperpose.search import FrameFit, SearchConfig, fit_frame
-from upperpose.tracker import Tracker, TrackerConfig, TrackResult
 
 __all__ = [
     "ANGLE_NAMES",

@@ -14,6 +14,8 @@ __all__ = [
     "SearchConfig",
     "JOINT_NAMES",
     "PART_NAMES",
+    "InputError",
+    "SearchError",
     "UpperposeError",
     "__version__",
     "fit_frame_bits",
@@ -31,6 +33,8 @@ JOINT_NAMES: list[str]
 PART_NAMES: list[str]
 
 class UpperposeError(Exception): ...
+class InputError(UpperposeError, ValueError): ...
+class SearchError(UpperposeError): ...
 
 @final
 class BodyModel:

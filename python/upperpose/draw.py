@@ -6,6 +6,7 @@ import cv2
 import numpy as np
 import numpy.typing as npt
 
+from upperpose.exceptions import InputError
 from upperpose.model import BodyModel, Camera, PoseLike, forward_kinematics, project, render_masks
 
 # BGR colours per part, in PART_NAMES order: torso, neck, head, right upper/lower, left upper/lower.
@@ -35,7 +36,7 @@ def draw_model(
     The parts are tinted, their visible contours outlined and the joints drawn as a stick figure.
     """
     if image.ndim != 3 or image.shape[2] != 3 or image.dtype != np.uint8:
-        raise ValueError(f"image must be (H, W, 3) uint8, got {image.shape} {image.dtype}")
+        raise InputError(f"image must be (H, W, 3) uint8, got {image.shape} {image.dtype}")
     height, width = image.shape[:2]
     masks = render_masks(pose, root, camera, width, height, body)
     out = image.copy()

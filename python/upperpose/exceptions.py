@@ -1,10 +1,18 @@
-"""The exceptions upperpose raises besides ValueError and TypeError for bad arguments."""
+"""The exceptions upperpose raises, one tree under `UpperposeError`.
 
-from upperpose._upperpose import UpperposeError
+    UpperposeError
+    ├── InputError   (also a ValueError) an argument's value is not allowed; the message names it
+    ├── SearchError  a search could not run
+    └── VideoError   a video or image cannot be read or written
+
+Wrong argument types raise `TypeError`. The command line prints any of these as one line.
+"""
+
+from upperpose._upperpose import InputError, SearchError, UpperposeError
 
 
 class VideoError(UpperposeError):
     """A video or image cannot be read or written."""
 
 
-__all__ = ["UpperposeError", "VideoError"]
+__all__ = ["InputError", "SearchError", "UpperposeError", "VideoError"]

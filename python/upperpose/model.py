@@ -13,8 +13,9 @@ from typing import Union
 import numpy as np
 import numpy.typing as npt
 
-from upperpose import _upperpose
+import upperpose._upperpose as _upperpose
 from upperpose._upperpose import ANGLE_NAMES, JOINT_NAMES, PART_NAMES, BodyModel, Camera
+from upperpose.exceptions import InputError
 
 FloatArray = npt.NDArray[np.float64]
 _ANGLE_INDEX = {name: i for i, name in enumerate(ANGLE_NAMES)}
@@ -35,10 +36,10 @@ def as_float_array(value: object, name: str, shape: tuple[int | None, ...]) -> F
         raise TypeError(f"{name} must be a numeric array, got dtype {array.dtype}")
     if array.ndim != len(shape) or any(n is not None and n != s for n, s in zip(shape, array.shape)):
         want = "(" + ", ".join("N" if n is None else str(n) for n in shape) + ("," if len(shape) == 1 else "") + ")"
-        raise ValueError(f"{name} must have shape {want}, got {array.shape}")
+        raise InputError(f"{name} must have shape {want}, got {array.shape}")
     array = np.ascontiguousarray(array, dtype=np.float64)
     if not np.all(np.isfinite(array)):
-        raise ValueError(f"{name} must be finite, got NaN or infinite values")
+        raise InputError(f"{name} must be finite, got NaN or infinite values")
     return array
 
 
@@ -56,7 +57,7 @@ class Pose:
         values = np.zeros(13) if angles is None else as_float_array(angles, "angles", (13,)).copy()
         for key, v in named.items():
             if key not in _ANGLE_INDEX:
-                raise ValueError(f"unknown angle {key!r}; angles are {', '.join(ANGLE_NAMES)}")
+                raise InputError(f"unknown angle {key!r}; angles are {', '.join(ANGLE_NAMES)}")
             values[_ANGLE_INDEX[key]] = float(v)
         values = as_float_array(values, "angles", (13,))
         values.setflags(write=False)
@@ -176,7 +177,7 @@ def render_masks(
     """
     for name, v in (("width", width), ("height", height)):
         if not isinstance(v, (int, np.integer)) or isinstance(v, bool) or v <= 0:
-            raise ValueError(f"{name} must be a positive integer, got {v!r}")
+            raise InputError(f"{name} must be a positive integer, got {v!r}")
     return _upperpose.render_masks(
         pose_array(pose), as_float_array(root, "root", (3,)), body or BodyModel(), camera, int(width), int(height), roi
     )

@@ -32,9 +32,9 @@ def measure(
     import numpy as np
 
     from upperpose.commands.track import tracker_config
-    from upperpose.pipeline import VideoTracking
-    from upperpose.tracker.output import PoseRecorder
-    from upperpose.tracker.state import LOST, TRACKED
+    from upperpose.fit.pipeline import VideoTracking
+    from upperpose.io.output import PoseRecorder
+    from upperpose.result import LOST, TRACKED
 
     args.no_skip = not skip
     run_ = VideoTracking(video, background, focal=focal, config=tracker_config(args))
@@ -75,7 +75,7 @@ def measure(
 
 def run(args: argparse.Namespace) -> int:
     """Measures and prints a table."""
-    from upperpose.synth import ClipConfig, write_clip
+    from upperpose.lab.synth import ClipConfig, write_clip
 
     with tempfile.TemporaryDirectory(prefix="upperpose-bench-") as tmp:
         background = args.background

@@ -13,7 +13,7 @@ HELP = "run every optimiser (APSO, PSO, simplex [1], APSOPF [2]) on every clip a
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
     """Options of the subcommand."""
-    from upperpose.compare import THESIS_SIGMAS
+    from upperpose.lab.compare import THESIS_SIGMAS
 
     p.add_argument("dataset", metavar="DATASET_DIR", help="folder of clip folders (video.mp4, gt.json, meta.json)")
     p.add_argument("-o", "--output", metavar="REPORT.md", help="write the report here (default: print it)")
@@ -39,8 +39,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     """Runs the comparison and writes the report atomically."""
     from upperpose.commands.track import check_writable
-    from upperpose.compare import all_methods, find_clips, format_report, run_all
-    from upperpose.files import write_atomic
+    from upperpose.io.files import write_atomic
+    from upperpose.lab.compare import all_methods, find_clips, format_report, run_all
 
     for name in ("jobs", "frames", "threads"):
         value = getattr(args, name)

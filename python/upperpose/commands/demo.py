@@ -27,14 +27,14 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     """Synthesises, tracks, draws and scores."""
     from upperpose.commands.track import check_writable, tracker_config
-    from upperpose.evaluate import evaluate, format_table
-    from upperpose.files import write_image
+    from upperpose.fit.pipeline import VideoTracking
+    from upperpose.io.files import write_image
+    from upperpose.io.output import PoseRecorder
+    from upperpose.io.overlay import OverlayWriter, contact_sheet, draw_overlay
+    from upperpose.io.posefile import load_poses
+    from upperpose.lab.evaluate import evaluate, format_table
+    from upperpose.lab.synth import ClipConfig, load_meta, write_clip
     from upperpose.model import Camera
-    from upperpose.pipeline import VideoTracking
-    from upperpose.posefile import load_poses
-    from upperpose.synth import ClipConfig, load_meta, write_clip
-    from upperpose.tracker.output import PoseRecorder
-    from upperpose.tracker.overlay import OverlayWriter, contact_sheet, draw_overlay
 
     if not 30 <= args.frames <= 3000:
         raise ValueError(f"--frames must be within 30..3000, got {args.frames}")
@@ -52,7 +52,9 @@ def run(args: argparse.Namespace) -> int:
 
     started = time.perf_counter()
     run_ = VideoTracking(clip / "video.mp4", clip / "background.png", camera=camera, config=tracker_config(args))
-    recorder = PoseRecorder(run_.reader.width, run_.reader.height, run_.fps, source="clip/video.mp4", seed=args.seed)
+    recorder = PoseRecorder(
+        run_.reader.width, run_.reader.height, run_.fps, source="clip/video.mp4", seed=run_.tracker.search_config.seed
+    )
     overlay = OverlayWriter(out / "overlay.mp4", run_.reader.width, run_.reader.height, run_.fps)
     total = run_.reader.frame_count or args.frames
     picks = {round(i * (total - 1) / 7) for i in range(8)}

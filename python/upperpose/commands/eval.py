@@ -19,8 +19,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Loads both files, scores, prints."""
-    from upperpose.evaluate import evaluate, format_table
-    from upperpose.posefile import load_poses
+    from upperpose.io.posefile import load_poses
+    from upperpose.lab.evaluate import evaluate, format_table
 
     if not args.pck > 0:
         raise ValueError(f"--pck must be positive, got {args.pck}")

@@ -21,7 +21,7 @@ from upperpose.features import (
 )
 from upperpose.features.background import background_from_video
 from upperpose.features.sheet import contact_sheet
-from upperpose.files import write_image
+from upperpose.io.files import write_image
 
 NAME = "features"
 HELP = "write a labelled contact sheet of every image feature of one frame, to see why tracking fails"

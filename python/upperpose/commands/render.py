@@ -8,7 +8,7 @@ import cv2
 import numpy as np
 
 from upperpose.draw import draw_model
-from upperpose.files import write_image
+from upperpose.io.files import write_image
 from upperpose.model import ANGLE_NAMES, Camera, Pose
 
 NAME = "render"

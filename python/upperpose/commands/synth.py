@@ -16,8 +16,8 @@ HELP = "render a synthetic clip folder (video, ground truth, clean plate, masks)
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
     """Options of the subcommand."""
-    from upperpose.synth.appearance import BUILDS, HAIR_COLOURS, PATTERNS, SHIRT_COLOURS, SKIN_TONES, SLEEVES
-    from upperpose.synth.motions import MOTIONS
+    from upperpose.lab.synth.appearance import BUILDS, HAIR_COLOURS, PATTERNS, SHIRT_COLOURS, SKIN_TONES, SLEEVES
+    from upperpose.lab.synth.motions import MOTIONS
 
     p.add_argument("outdir", help="clip folder to write (with --devset: the folder of the twelve clip folders)")
     p.add_argument("--devset", action="store_true", help="write the 12-clip development set into OUTDIR")
@@ -49,7 +49,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def _render(name: str, config: object, outdir: str) -> tuple[str, float]:
-    from upperpose.synth.dataset import write_clip
+    from upperpose.lab.synth.dataset import write_clip
 
     start = time.perf_counter()
     write_clip(config, Path(outdir) / name)  # type: ignore[arg-type]
@@ -62,12 +62,12 @@ def run(args: argparse.Namespace) -> int:
 
     import numpy as np
 
-    from upperpose.files import write_image
-    from upperpose.synth.appearance import Appearance
-    from upperpose.synth.dataset import write_clip
-    from upperpose.synth.devset import DEVSET, holdout_set
-    from upperpose.synth.scene import ClipConfig
-    from upperpose.synth.sheet import contact_sheet
+    from upperpose.io.files import write_image
+    from upperpose.lab.synth.appearance import Appearance
+    from upperpose.lab.synth.dataset import write_clip
+    from upperpose.lab.synth.devset import DEVSET, holdout_set
+    from upperpose.lab.synth.scene import ClipConfig
+    from upperpose.lab.synth.sheet import contact_sheet
 
     if args.holdout and not args.devset:
         raise ValueError("--holdout goes with --devset")

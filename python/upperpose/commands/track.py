@@ -24,11 +24,11 @@ def add_search_arguments(p: argparse.ArgumentParser) -> None:
         default=None,
         help="worker threads (default: UPPERPOSE_NUM_THREADS, else one per 64 particles, at most one per core)",
     )
-    p.add_argument("--seed", type=int, default=0, help="random seed (default 0): the same seed gives the same poses")
+    p.add_argument("--seed", type=int, default=None, help="random seed (default 0): the same seed gives the same poses")
     p.add_argument(
         "--optimizer",
         choices=OPTIMIZERS,
-        default="apso",
+        default=None,
         help="search method (default apso); pso, simplex and apsopf are the thesis' baselines (docs/baselines.md)",
     )
     p.add_argument(
@@ -40,8 +40,14 @@ def add_search_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--limits",
         choices=("anatomical", "thesis"),
-        default="anatomical",
+        default=None,
         help="joint angle ranges: anatomical (default) or the thesis' Table 3.5-1",
+    )
+    p.add_argument(
+        "--config",
+        metavar="FILE.toml",
+        help="settings file (docs/guide.md; `upperpose config` prints the effective settings); options given "
+        "on the command line override it",
     )
 
 
@@ -59,8 +65,11 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def tracker_config(args: argparse.Namespace):  # type: ignore[no-untyped-def]
-    """The TrackerConfig from the command-line options."""
-    from upperpose.tracker.tracker import TrackerConfig
+    """The TrackerConfig of the settings file (if any) with the command-line options over it."""
+    import dataclasses
+
+    from upperpose.fit.settings import load_config
+    from upperpose.fit.tracker import TrackerConfig
 
     for name in ("particles", "iterations", "threads"):
         value = getattr(args, name, None)
@@ -69,16 +78,13 @@ def tracker_config(args: argparse.Namespace):  # type: ignore[no-untyped-def]
     sigma = getattr(args, "sigma", None)
     if sigma is not None and not (math.isfinite(sigma) and sigma > 0):
         raise ValueError(f"--sigma must be a positive number, got {sigma}")
-    return TrackerConfig(
-        particles=args.particles,
-        iterations=args.iterations,
-        threads=args.threads,
-        seed=args.seed,
-        optimizer=getattr(args, "optimizer", "apso"),
-        sigma=sigma,
-        limits=getattr(args, "limits", "anatomical"),
-        skip_static=not getattr(args, "no_skip", False),
-    )
+    path = getattr(args, "config", None)
+    config = load_config(path) if path else TrackerConfig()
+    given = {name: getattr(args, name, None) for name in ("particles", "iterations", "threads", "seed")}
+    given.update(optimizer=getattr(args, "optimizer", None), sigma=sigma, limits=getattr(args, "limits", None))
+    if getattr(args, "no_skip", False):
+        given["skip_static"] = False
+    return dataclasses.replace(config, **{k: v for k, v in given.items() if v is not None})
 
 
 def check_writable(*paths: str | None) -> None:
@@ -131,10 +137,11 @@ def run(args: argparse.Namespace) -> int:
     """Tracks the video; writes the outputs atomically, also after Ctrl-C."""
     from upperpose.exceptions import UpperposeError
     from upperpose.features import CleanPlateWarning
-    from upperpose.pipeline import VideoTracking
-    from upperpose.tracker.output import PoseRecorder
-    from upperpose.tracker.overlay import OverlayWriter, draw_overlay
-    from upperpose.tracker.state import LOST, NO_PERSON, TRACKED
+    from upperpose.fit.pipeline import VideoTracking
+    from upperpose.fit.settings import config_to_dict
+    from upperpose.io.output import PoseRecorder
+    from upperpose.io.overlay import OverlayWriter, draw_overlay
+    from upperpose.result import LOST, NO_PERSON, TRACKED
 
     check_writable(args.output, args.csv, args.overlay)
     config = tracker_config(args)
@@ -149,8 +156,9 @@ def run(args: argparse.Namespace) -> int:
         run_.reader.height,
         run_.fps,
         source=Path(args.video).name,
-        seed=args.seed,
+        seed=run_.tracker.search_config.seed,
         clean_plate=run_.clean_plate,
+        settings=config_to_dict(config),
     )
     overlay = OverlayWriter(args.overlay, run_.reader.width, run_.reader.height, run_.fps) if args.overlay else None
     progress = Progress(run_.reader.frame_count, not args.quiet)

@@ -22,7 +22,7 @@ import cv2
 import numpy as np
 import numpy.typing as npt
 
-from upperpose.exceptions import VideoError
+from upperpose.exceptions import InputError, VideoError
 from upperpose.features.change import colour_change
 from upperpose.features.checks import Frame, Mask, check_frame
 from upperpose.features.config import FeatureConfig
@@ -299,7 +299,7 @@ def estimate_background(
     """
     config = config or FeatureConfig()
     if len(samples) == 0:
-        raise ValueError("background estimation needs at least one frame")
+        raise InputError("background estimation needs at least one frame")
     size = check_frame(samples[0], "frame 0").shape[:2]
     samples = [check_frame(s, f"sample {i}", size) for i, s in enumerate(samples)]
     lead = [check_frame(f, f"lead-in frame {i}", size) for i, f in enumerate(lead)]

@@ -5,6 +5,8 @@ from __future__ import annotations
 import numpy as np
 import numpy.typing as npt
 
+from upperpose.exceptions import InputError
+
 Frame = npt.NDArray[np.uint8]
 Mask = npt.NDArray[np.uint8]
 
@@ -22,15 +24,15 @@ def check_frame(frame: object, name: str = "frame", size: tuple[int, int] | None
     if not isinstance(frame, np.ndarray):
         raise TypeError(f"{name} must be a numpy array, got {type(frame).__name__}")
     if frame.size == 0:
-        raise ValueError(f"{name} is empty (shape {frame.shape})")
+        raise InputError(f"{name} is empty (shape {frame.shape})")
     if frame.ndim == 2 or (frame.ndim == 3 and frame.shape[2] == 1):
-        raise ValueError(f"{name} is grayscale {frame.shape}; features need a (H, W, 3) BGR colour frame")
+        raise InputError(f"{name} is grayscale {frame.shape}; features need a (H, W, 3) BGR colour frame")
     if frame.ndim != 3 or frame.shape[2] != 3:
-        raise ValueError(f"{name} must be (H, W, 3) BGR, got shape {frame.shape}")
+        raise InputError(f"{name} must be (H, W, 3) BGR, got shape {frame.shape}")
     if frame.dtype != np.uint8:
-        raise ValueError(f"{name} must be uint8, got {frame.dtype}")
+        raise InputError(f"{name} must be uint8, got {frame.dtype}")
     if size is not None and frame.shape[:2] != tuple(size):
-        raise ValueError(f"{name} is {frame.shape[1]}x{frame.shape[0]} but the background is {size[1]}x{size[0]}")
+        raise InputError(f"{name} is {frame.shape[1]}x{frame.shape[0]} but the background is {size[1]}x{size[0]}")
     return np.ascontiguousarray(frame)
 
 
@@ -44,7 +46,7 @@ def check_mask(mask: object, name: str, size: tuple[int, int]) -> Mask:
     if not isinstance(mask, np.ndarray):
         raise TypeError(f"{name} must be a numpy array, got {type(mask).__name__}")
     if mask.ndim != 2 or mask.shape != tuple(size):
-        raise ValueError(f"{name} must have shape {tuple(size)}, got {mask.shape}")
+        raise InputError(f"{name} must have shape {tuple(size)}, got {mask.shape}")
     if mask.dtype.kind not in "biu":
-        raise ValueError(f"{name} must be an integer or bool mask, got {mask.dtype}")
+        raise InputError(f"{name} must be an integer or bool mask, got {mask.dtype}")
     return np.ascontiguousarray(mask, dtype=np.uint8)

@@ -6,6 +6,8 @@ import dataclasses
 from dataclasses import dataclass
 from typing import Literal
 
+from upperpose.exceptions import InputError
+
 SkinSpace = Literal["rgb", "ycrcb", "hsv", "rgb+ycrcb"]
 SKIN_SPACES: tuple[str, ...] = ("rgb", "ycrcb", "hsv", "rgb+ycrcb")
 
@@ -320,9 +322,9 @@ class FeatureConfig:
 
     def __post_init__(self) -> None:
         if self.skin_space not in SKIN_SPACES:
-            raise ValueError(f"skin_space must be one of {', '.join(SKIN_SPACES)}, got {self.skin_space!r}")
+            raise InputError(f"skin_space must be one of {', '.join(SKIN_SPACES)}, got {self.skin_space!r}")
         if not 0 <= self.rgb_rg_min <= self.rgb_rg_max <= 255:
-            raise ValueError(f"need 0 <= rgb_rg_min <= rgb_rg_max <= 255, got {self.rgb_rg_min}, {self.rgb_rg_max}")
+            raise InputError(f"need 0 <= rgb_rg_min <= rgb_rg_max <= 255, got {self.rgb_rg_min}, {self.rgb_rg_max}")
         for name in (
             "sub_open",
             "sub_close",
@@ -343,9 +345,9 @@ class FeatureConfig:
             "part_min_share",
         ):
             if getattr(self, name) < 0:
-                raise ValueError(f"{name} must be >= 0, got {getattr(self, name)}")
+                raise InputError(f"{name} must be >= 0, got {getattr(self, name)}")
         if self.edge_blur > 1 and self.edge_blur % 2 == 0:
-            raise ValueError(f"edge_blur must be odd, got {self.edge_blur}")
+            raise InputError(f"edge_blur must be odd, got {self.edge_blur}")
         for name in (
             "hand_gate",
             "head_priority",
@@ -365,21 +367,21 @@ class FeatureConfig:
             "bg_lead_seconds",
         ):
             if not getattr(self, name) > 0:
-                raise ValueError(f"{name} must be positive, got {getattr(self, name)}")
+                raise InputError(f"{name} must be positive, got {getattr(self, name)}")
         if not self.exposure_tolerance >= 0:
-            raise ValueError(f"exposure_tolerance must be >= 0, got {self.exposure_tolerance}")
+            raise InputError(f"exposure_tolerance must be >= 0, got {self.exposure_tolerance}")
         if self.exposure_step < 1:
-            raise ValueError(f"exposure_step must be >= 1, got {self.exposure_step}")
+            raise InputError(f"exposure_step must be >= 1, got {self.exposure_step}")
         for name in ("bg_face_min_skin", "bg_face_agreement"):
             if not 0 <= getattr(self, name) <= 1:
-                raise ValueError(f"{name} must be within 0..1, got {getattr(self, name)}")
+                raise InputError(f"{name} must be within 0..1, got {getattr(self, name)}")
         if not self.bg_grabcut_scale >= 1:
-            raise ValueError(f"bg_grabcut_scale must be >= 1, got {self.bg_grabcut_scale}")
+            raise InputError(f"bg_grabcut_scale must be >= 1, got {self.bg_grabcut_scale}")
         for name in ("bg_grabcut_iterations", "bg_grabcut_runs", "bg_inpaint_radius", "bg_face_samples"):
             if getattr(self, name) < 1:
-                raise ValueError(f"{name} must be >= 1, got {getattr(self, name)}")
+                raise InputError(f"{name} must be >= 1, got {getattr(self, name)}")
         if self.bg_max_samples < 3:
-            raise ValueError(f"bg_max_samples must be >= 3, got {self.bg_max_samples}")
+            raise InputError(f"bg_max_samples must be >= 3, got {self.bg_max_samples}")
 
     def replace(self, **changes: object) -> FeatureConfig:
         """A copy with some fields changed (validated again)."""

@@ -8,6 +8,7 @@ import cv2
 import numpy as np
 import numpy.typing as npt
 
+from upperpose.exceptions import InputError
 from upperpose.features.background import Background, Int16Image, square
 from upperpose.features.blobs import find_skin_blobs
 from upperpose.features.change import colour_change, plate_distance
@@ -92,7 +93,7 @@ def _joints_array(joints: npt.ArrayLike | None) -> npt.NDArray[np.float64] | Non
         return None
     array = np.asarray(joints, dtype=np.float64)
     if array.shape != (7, 2):
-        raise ValueError(f"predicted_joints must be (7, 2) pixels in JOINT_NAMES order, got shape {array.shape}")
+        raise InputError(f"predicted_joints must be (7, 2) pixels in JOINT_NAMES order, got shape {array.shape}")
     return array
 
 

@@ -10,6 +10,8 @@ from __future__ import annotations
 import numpy as np
 import numpy.typing as npt
 
+from upperpose.exceptions import InputError
+
 WORD_BITS = 64
 
 
@@ -32,7 +34,7 @@ def pack_rows(mask: npt.ArrayLike) -> npt.NDArray[np.uint64]:
     """
     array = np.asarray(mask)
     if array.ndim != 2:
-        raise ValueError(f"mask must be (H, W), got shape {array.shape}")
+        raise InputError(f"mask must be (H, W), got shape {array.shape}")
     height, width = array.shape
     stride = row_stride(width)
     packed = np.packbits(array, axis=1, bitorder="little")
@@ -50,6 +52,6 @@ def unpack_rows(words: npt.ArrayLike, width: int) -> npt.NDArray[np.uint8]:
     """
     array = np.ascontiguousarray(words, dtype="<u8")
     if array.ndim != 2 or array.shape[1] != row_stride(width):
-        raise ValueError(f"words must be (H, {row_stride(width)}) for width {width}, got shape {array.shape}")
+        raise InputError(f"words must be (H, {row_stride(width)}) for width {width}, got shape {array.shape}")
     as_bytes = array.view(np.uint8).reshape(array.shape[0], -1)
     return np.unpackbits(as_bytes, axis=1, count=width, bitorder="little")

@@ -1,12 +1,12 @@
 //! numpy <-> core conversions, with checks that name the argument.
 
 use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
-use pyo3::exceptions::{PyTypeError, PyValueError};
+use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use upperpose_core::nalgebra::Vector3;
 use upperpose_core::Pose;
 
-use crate::errors::IntoPy;
+use crate::errors::{self, IntoPy};
 
 /// A float64 1-D array of exactly `n` finite values.
 pub fn finite_vector<'a>(
@@ -18,13 +18,13 @@ pub fn finite_vector<'a>(
         .as_slice()
         .map_err(|_| PyTypeError::new_err(format!("{name} must be a contiguous float64 array")))?;
     if values.len() != n {
-        return Err(PyValueError::new_err(format!(
+        return Err(errors::input_error(format!(
             "{name} must have shape ({n},), got ({},)",
             values.len()
         )));
     }
     if let Some(bad) = values.iter().find(|v| !v.is_finite()) {
-        return Err(PyValueError::new_err(format!(
+        return Err(errors::input_error(format!(
             "{name} must be finite, got {bad}"
         )));
     }
@@ -49,7 +49,7 @@ pub fn points_from_array(
 ) -> PyResult<Vec<Vector3<f64>>> {
     let shape = array.shape();
     if shape[1] != 3 {
-        return Err(PyValueError::new_err(format!(
+        return Err(errors::input_error(format!(
             "{name} must have shape (N, 3), got ({}, {})",
             shape[0], shape[1]
         )));
@@ -58,7 +58,7 @@ pub fn points_from_array(
         .as_slice()
         .map_err(|_| PyTypeError::new_err(format!("{name} must be a contiguous float64 array")))?;
     if let Some(bad) = values.iter().find(|v| !v.is_finite()) {
-        return Err(PyValueError::new_err(format!(
+        return Err(errors::input_error(format!(
             "{name} must be finite, got {bad}"
         )));
     }

@@ -1,7 +1,6 @@
 //! Forward kinematics, the posed solids and the joint-angle presets.
 
 use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray1};
-use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use upperpose_core::nalgebra::Matrix3;
@@ -10,6 +9,7 @@ use upperpose_core::solid::{solid_of_part, Solid};
 use upperpose_core::{skeleton_from_pose, Dof, JointLimits, Part, Skeleton, PART_NAMES};
 
 use crate::convert::{array_from_points, pose_from_array, vector3_from_array};
+use crate::errors;
 use crate::model::PyBodyModel;
 
 fn posed(
@@ -158,7 +158,7 @@ pub fn joint_limits_py(preset: &str) -> PyResult<Vec<Vec<(f64, f64)>>> {
         "anatomical" => JointLimits::anatomical(),
         "thesis" => JointLimits::thesis(),
         other => {
-            return Err(PyValueError::new_err(format!(
+            return Err(errors::input_error(format!(
                 "preset must be 'anatomical' or 'thesis', got {other:?}"
             )))
         }

@@ -21,6 +21,8 @@ fn _upperpose(m: &Bound<'_, PyModule>) -> PyResult<()> {
         "UpperposeError",
         m.py().get_type::<errors::UpperposeError>(),
     )?;
+    m.add("SearchError", m.py().get_type::<errors::SearchError>())?;
+    m.add("InputError", errors::input_error_type(m.py())?)?;
     m.add_class::<model::PyBodyModel>()?;
     m.add_class::<model::PyCamera>()?;
     m.add_function(wrap_pyfunction!(kinematics::forward_kinematics_py, m)?)?;

@@ -3,7 +3,7 @@
 use std::collections::HashMap;
 
 use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
-use pyo3::exceptions::{PyTypeError, PyValueError};
+use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use upperpose_core::image::{FrameView, SkinPoints};
@@ -16,7 +16,7 @@ use upperpose_core::search::{
 use upperpose_core::{skeleton_from_pose, JointLimits, DOF_COUNT};
 
 use crate::convert::{array_from_points, pose_from_array, vector3_from_array};
-use crate::errors::IntoPy;
+use crate::errors::{self, IntoPy};
 use crate::model::{PyBodyModel, PyCamera};
 
 const TERM_NAMES: [&str; 7] = ["sil", "edge", "motion", "skin", "arm", "ratio", "cover"];
@@ -114,16 +114,16 @@ impl PySearchConfig {
             max_speed: max_speed.unwrap_or(d.max_speed),
         };
         if c.swarm.particles == 0 {
-            return Err(PyValueError::new_err("particles must be >= 1, got 0"));
+            return Err(errors::input_error("particles must be >= 1, got 0"));
         }
         if !(c.swarm.c0 > 0.0 && c.swarm.c0.is_finite()) {
-            return Err(PyValueError::new_err(format!(
+            return Err(errors::input_error(format!(
                 "c0 must be > 0, got {}",
                 c.swarm.c0
             )));
         }
         if !(c.swarm.max_speed > 0.0 && c.swarm.max_speed <= 1.0) {
-            return Err(PyValueError::new_err(format!(
+            return Err(errors::input_error(format!(
                 "max_speed must be in (0, 1], got {}",
                 c.swarm.max_speed
             )));
@@ -132,7 +132,7 @@ impl PySearchConfig {
             let mut x = c.weights;
             for (name, value) in w {
                 if !value.is_finite() {
-                    return Err(PyValueError::new_err(format!(
+                    return Err(errors::input_error(format!(
                         "weights[{name:?}] must be finite, got {value}"
                     )));
                 }
@@ -145,7 +145,7 @@ impl PySearchConfig {
                     "ratio" => &mut x.ratio,
                     "cover" => &mut x.cover,
                     other => {
-                        return Err(PyValueError::new_err(format!(
+                        return Err(errors::input_error(format!(
                             "unknown weight {other:?}; weights are {}",
                             TERM_NAMES.join(", ")
                         )))
@@ -159,7 +159,7 @@ impl PySearchConfig {
             "anatomical" => JointLimits::anatomical(),
             "thesis" => JointLimits::thesis(),
             other => {
-                return Err(PyValueError::new_err(format!(
+                return Err(errors::input_error(format!(
                     "limits must be 'anatomical' or 'thesis', got {other:?}"
                 )))
             }
@@ -169,7 +169,7 @@ impl PySearchConfig {
         c.sil_by_part_area = sil_by_part_area;
         c.merged_skin = merged_skin;
         if threads == Some(0) {
-            return Err(PyValueError::new_err("threads must be >= 1, got 0"));
+            return Err(errors::input_error("threads must be >= 1, got 0"));
         }
         c.threads = threads;
         c.seed = seed;
@@ -187,29 +187,27 @@ impl PySearchConfig {
         ] {
             if let Some(v) = v {
                 if !(v >= 0.0 && v.is_finite()) {
-                    return Err(PyValueError::new_err(format!(
-                        "{name} must be >= 0, got {v}"
-                    )));
+                    return Err(errors::input_error(format!("{name} must be >= 0, got {v}")));
                 }
                 *slot = v;
             }
         }
         if let Some((a, b, d)) = row_steps {
             if a < 1 || b < 1 || d < 1 {
-                return Err(PyValueError::new_err(format!(
+                return Err(errors::input_error(format!(
                     "row_steps must all be >= 1, got ({a}, {b}, {d})"
                 )));
             }
             c.row_steps = [a, b, d];
         }
         c.optimizer = Optimizer::from_name(optimizer).ok_or_else(|| {
-            PyValueError::new_err(format!(
+            errors::input_error(format!(
                 "optimizer must be one of apso, pso, simplex, apsopf, got {optimizer:?}"
             ))
         })?;
         if let Some(v) = sigma {
             if !(v > 0.0 && v.is_finite()) {
-                return Err(PyValueError::new_err(format!("sigma must be > 0, got {v}")));
+                return Err(errors::input_error(format!("sigma must be > 0, got {v}")));
             }
             c.sigma = v;
         }
@@ -407,7 +405,7 @@ fn plane<'a>(
 ) -> PyResult<&'a [u64]> {
     let shape = array.shape();
     if shape != [height, stride] {
-        return Err(PyValueError::new_err(format!(
+        return Err(errors::input_error(format!(
             "{name} must have shape ({height}, {stride}), got ({}, {})",
             shape[0], shape[1]
         )));
@@ -474,7 +472,7 @@ pub fn fit_frame_bits_py(
             PyTypeError::new_err("angle_window_scales must be a C-contiguous float64 array")
         })?;
         if got.len() != DOF_COUNT {
-            return Err(PyValueError::new_err(format!(
+            return Err(errors::input_error(format!(
                 "angle_window_scales must have {DOF_COUNT} values, got {}",
                 got.len()
             )));
@@ -489,7 +487,7 @@ pub fn fit_frame_bits_py(
         plane("motion", &motion, height, stride)?,
     );
     if points.shape() != [3, 2] {
-        return Err(PyValueError::new_err(format!(
+        return Err(errors::input_error(format!(
             "points must have shape (3, 2), got {:?}",
             points.shape()
         )));
@@ -504,7 +502,7 @@ pub fn fit_frame_bits_py(
     }
     if let Some(boxes) = &merged_boxes {
         if boxes.shape() != [3, 4] {
-            return Err(PyValueError::new_err(format!(
+            return Err(errors::input_error(format!(
                 "merged_boxes must have shape (3, 4), got {:?}",
                 boxes.shape()
             )));
@@ -522,7 +520,7 @@ pub fn fit_frame_bits_py(
         "trajectory" => Mode::Trajectory,
         "initial" => Mode::Initial,
         other => {
-            return Err(PyValueError::new_err(format!(
+            return Err(errors::input_error(format!(
                 "mode must be 'trajectory' or 'initial', got {other:?}"
             )))
         }
@@ -532,15 +530,14 @@ pub fn fit_frame_bits_py(
         match STAGE_NAMES.iter().position(|s| s == name) {
             Some(i) => flags[i] = true,
             None => {
-                return Err(PyValueError::new_err(format!(
+                return Err(errors::input_error(format!(
                     "unknown stage {name:?} in search; stages are {}",
                     STAGE_NAMES.join(", ")
                 )))
             }
         }
     }
-    let height =
-        u32::try_from(height).map_err(|_| PyValueError::new_err("features are too tall"))?;
+    let height = u32::try_from(height).map_err(|_| errors::input_error("features are too tall"))?;
     let mut frame = FrameView::new(width, height, s, e, m, skin).py()?;
     if let Some(mask) = &skin_mask {
         frame = frame
@@ -561,21 +558,19 @@ pub fn fit_frame_bits_py(
         frame_index,
     };
     let config = &config.inner;
-    let (fit, joints_3d, joints_2d) = py
-        .detach(|| {
-            let fit = fit_frame(&req, config)?;
-            let joints = skeleton_from_pose(&fit.pose, &fit.root, &req.body).joints();
-            let j2: Vec<Vector2<f64>> = joints
-                .iter()
-                .map(|j| {
-                    req.camera
-                        .project(j)
-                        .unwrap_or(Vector2::new(f64::NAN, f64::NAN))
-                })
-                .collect();
-            Ok((fit, joints.to_vec(), j2))
-        })
-        .py()?;
+    let (fit, joints_3d, joints_2d) = errors::run_core(py, || {
+        let fit = fit_frame(&req, config)?;
+        let joints = skeleton_from_pose(&fit.pose, &fit.root, &req.body).joints();
+        let j2: Vec<Vector2<f64>> = joints
+            .iter()
+            .map(|j| {
+                req.camera
+                    .project(j)
+                    .unwrap_or(Vector2::new(f64::NAN, f64::NAN))
+            })
+            .collect();
+        Ok((fit, joints.to_vec(), j2))
+    })?;
     Ok(PyFrameFit {
         fit,
         joints_3d,

@@ -9,8 +9,8 @@ from __future__ import annotations
 
 import dataclasses
 
-from upperpose.synth.appearance import Appearance
-from upperpose.synth.scene import ClipConfig
+from upperpose.lab.synth.appearance import Appearance
+from upperpose.lab.synth.scene import ClipConfig
 
 DEVSET: list[tuple[str, ClipConfig]] = [
     (

@@ -10,9 +10,9 @@ import numpy as np
 import numpy.typing as npt
 
 from upperpose.draw import draw_model
-from upperpose.exceptions import VideoError
+from upperpose.exceptions import InputError, VideoError
 from upperpose.model import BodyModel, Camera
-from upperpose.tracker.tracker import TrackResult
+from upperpose.result import TrackResult
 
 STATUS_COLOURS = {
     "no_person": (160, 160, 160),
@@ -90,7 +90,7 @@ class OverlayWriter:
 def contact_sheet(images: list[npt.NDArray[np.uint8]], columns: int = 4, width: int = 320) -> npt.NDArray[np.uint8]:
     """Tiles images (scaled to `width` pixels wide) into one sheet, row by row."""
     if not images:
-        raise ValueError("a contact sheet needs at least one image")
+        raise InputError("a contact sheet needs at least one image")
     tiles = []
     for image in images:
         h, w = image.shape[:2]

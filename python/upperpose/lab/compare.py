@@ -21,8 +21,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from upperpose.evaluate import evaluate
 from upperpose.exceptions import UpperposeError
+from upperpose.lab.evaluate import evaluate
 from upperpose.model import JOINT_NAMES
 
 
@@ -124,11 +124,11 @@ def run_one(clip: Clip, method: Method, frames: int | None, seed: int, threads: 
     plate is tracked against the background estimated from its video, without a warning.
     """
     from upperpose.features import CleanPlateWarning
+    from upperpose.fit.pipeline import VideoTracking
+    from upperpose.fit.tracker import TrackerConfig
+    from upperpose.io.output import PoseRecorder
+    from upperpose.io.posefile import load_poses
     from upperpose.model import Camera
-    from upperpose.pipeline import VideoTracking
-    from upperpose.posefile import load_poses
-    from upperpose.tracker.output import PoseRecorder
-    from upperpose.tracker.tracker import TrackerConfig
 
     try:
         config = TrackerConfig(

@@ -2,7 +2,7 @@
 
 Each frame is fitted from the previous frame's true pose plus Gaussian noise, with the true
 root, against the frame's real features (clean plate). The fit's 2D joints are compared with
-the truth. Run: `python -m upperpose.refit DEV_SET_DIR [--noise RAD] [--frames N]`.
+the truth. Run: `python -m upperpose.lab.refit DEV_SET_DIR [--noise RAD] [--frames N]`.
 """
 
 from __future__ import annotations
@@ -16,8 +16,8 @@ import cv2
 import numpy as np
 
 from upperpose.features import Background, FeatureExtractor
+from upperpose.fit.search import SearchConfig, fit_frame
 from upperpose.model import BodyModel, Camera
-from upperpose.search import SearchConfig, fit_frame
 
 
 def refit_clip(folder: Path, noise: float, limit: int | None, config: SearchConfig, seed: int = 0) -> dict[str, float]:

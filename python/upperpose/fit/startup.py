@@ -24,6 +24,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
+from upperpose.exceptions import InputError
 from upperpose.features import FeatureConfig, SkinBlob
 from upperpose.features.faces import FaceBox, FaceDetector, choose_face
 from upperpose.features.points import far_end, principal_direction, unit
@@ -318,7 +319,7 @@ def fit_bodies(
         The fit of the lowest score (the first of equals).
     """
     if best is None and not candidates:
-        raise ValueError("candidates must not be empty")
+        raise InputError("candidates must not be empty")
     for candidate in candidates:
         body, root = place(candidate)
         root = np.ascontiguousarray(root, dtype=np.float64)

@@ -14,10 +14,11 @@ from dataclasses import dataclass, field
 import numpy as np
 import numpy.typing as npt
 
+from upperpose.exceptions import InputError
 from upperpose.features import Background, FeatureConfig, background_from_video
+from upperpose.fit.tracker import Fitter, Tracker, TrackerConfig, TrackResult
+from upperpose.io.video import Frame, VideoReader, read_background
 from upperpose.model import BodyModel, Camera
-from upperpose.tracker.tracker import Fitter, Tracker, TrackerConfig, TrackResult
-from upperpose.tracker.video import Frame, VideoReader, read_background
 
 BackgroundLike = Background | npt.NDArray[np.uint8] | str | os.PathLike[str] | None
 
@@ -41,7 +42,7 @@ def load_background(
     config = config or FeatureConfig()
     if background is None:
         if isinstance(video, int):
-            raise ValueError("a live camera needs a background image (a photo of the empty scene)")
+            raise InputError("a live camera needs a background image (a photo of the empty scene)")
         return background_from_video(video, config), False
     if isinstance(background, Background):
         plate_size = background.size
@@ -52,7 +53,7 @@ def load_background(
         if plate_size == tuple(size):
             result = Background.from_plate(plate, config)
     if tuple(plate_size) != tuple(size):
-        raise ValueError(f"the background is {plate_size[1]}x{plate_size[0]} but the video is {size[1]}x{size[0]}")
+        raise InputError(f"the background is {plate_size[1]}x{plate_size[0]} but the video is {size[1]}x{size[0]}")
     return result, True
 
 
@@ -103,7 +104,7 @@ class VideoTracking:
         fitter: Fitter | None = None,
     ) -> None:
         if focal is not None and not (np.isfinite(focal) and focal > 0):
-            raise ValueError(f"focal length must be a positive number of pixels, got {focal}")
+            raise InputError(f"focal length must be a positive number of pixels, got {focal}")
         self.config = config or TrackerConfig()
         self.reader = VideoReader(video)
         try:

@@ -11,8 +11,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-NO_PERSON, INITIALISING, TRACKED, LOST = "no_person", "initialising", "tracked", "lost"
-STATUSES = (NO_PERSON, INITIALISING, TRACKED, LOST)
+from upperpose.result import INITIALISING, LOST, NO_PERSON, STATUSES, TRACKED
 
 
 @dataclass

@@ -10,7 +10,7 @@ import cv2
 import numpy as np
 import numpy.typing as npt
 
-from upperpose.exceptions import VideoError
+from upperpose.exceptions import InputError, VideoError
 
 Frame = npt.NDArray[np.uint8]
 DEFAULT_FPS = 30.0
@@ -90,7 +90,7 @@ def read_background(path: str | os.PathLike[str], size: tuple[int, int]) -> Fram
     if image is None:
         raise VideoError(f"cannot read the background image {p}: not an image OpenCV can decode")
     if image.shape[:2] != tuple(size):
-        raise ValueError(
+        raise InputError(
             f"the background image {p} is {image.shape[1]}x{image.shape[0]} "
             f"but the video is {size[1]}x{size[0]}: use a photo of the same view at the video's size"
         )

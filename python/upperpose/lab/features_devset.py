@@ -1,7 +1,7 @@
 """Measures the features against a clip folder's truth (docs/dataset.md).
 
 Silhouette IoU, head and hand points, merged blobs, skin precision and recall, skin blobs off the
-person.  `python -m upperpose.features.devset DEVSET_DIR [--skin rgb ycrcb hsv]` prints one row per
+person.  `python -m upperpose.lab.features_devset DEVSET_DIR [--skin rgb ycrcb hsv]` prints one row per
 clip. The prediction given to the point matcher is the previous frame's true joints (a perfect
 tracker), so the numbers isolate the features from the tracker. As in the tracker, the person's
 skin colour is learnt from the first face found (`FeatureConfig.person_skin`).
@@ -26,7 +26,7 @@ from upperpose.features.background import (
 )
 from upperpose.features.config import SKIN_SPACES, FeatureConfig
 from upperpose.features.extractor import FeatureExtractor
-from upperpose.tracker.startup import FaceDetector, choose_face
+from upperpose.fit.startup import FaceDetector, choose_face
 
 POINT_JOINTS = (0, 5, 6)  # head, right hand, left hand in JOINT_NAMES
 POINT_TOLERANCE = 10.0

@@ -11,8 +11,9 @@ from typing import Protocol
 import numpy as np
 import numpy.typing as npt
 
-from upperpose import _upperpose
+import upperpose._upperpose as _upperpose
 from upperpose._upperpose import BodyModel, Camera, FrameFit, SearchConfig
+from upperpose.exceptions import InputError
 from upperpose.model import PoseLike, as_float_array, pose_array
 
 STAGES = ("torso", "right_arm", "left_arm")
@@ -79,7 +80,7 @@ def fit_frame(
     # NaN marks an absent or merged point, so only the shape is checked here.
     points = np.ascontiguousarray(features.points_array(), dtype=np.float64)
     if points.shape != (3, 2):
-        raise ValueError(f"features.points_array() must have shape (3, 2), got {points.shape}")
+        raise InputError(f"features.points_array() must have shape (3, 2), got {points.shape}")
     return _upperpose.fit_frame_bits(
         np.ascontiguousarray(features.sil_bits, dtype=np.uint64),
         np.ascontiguousarray(features.edge_bits, dtype=np.uint64),

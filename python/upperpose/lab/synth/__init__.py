@@ -5,11 +5,11 @@ face, moves through scripted motions in a procedurally drawn room; a camera mode
 noise and video compression. Each clip is written as a clip folder (see `dataset`).
 """
 
-from upperpose.synth.appearance import Appearance, body_for_build
-from upperpose.synth.dataset import load_masks, load_meta, write_clip
-from upperpose.synth.devset import DEVSET
-from upperpose.synth.motions import MOTIONS, motion_angles
-from upperpose.synth.scene import ClipConfig, ClipPlan, plan_clip, render_frame, render_frames
+from upperpose.lab.synth.appearance import Appearance, body_for_build
+from upperpose.lab.synth.dataset import load_masks, load_meta, write_clip
+from upperpose.lab.synth.devset import DEVSET
+from upperpose.lab.synth.motions import MOTIONS, motion_angles
+from upperpose.lab.synth.scene import ClipConfig, ClipPlan, plan_clip, render_frame, render_frames
 
 __all__ = [
     "DEVSET",

@@ -14,12 +14,12 @@ import cv2
 import numpy as np
 import numpy.typing as npt
 
+from upperpose.lab.synth.appearance import Appearance, body_for_build
+from upperpose.lab.synth.motions import MOTION_DESCRIPTIONS, MOTIONS, min_jerk, motion_angles
+from upperpose.lab.synth.person import Light, Texture, person_solids, shade_person
+from upperpose.lab.synth.raycast import cast
+from upperpose.lab.synth.room import draw_room
 from upperpose.model import ANGLE_NAMES, BodyModel, Camera, Pose, forward_kinematics
-from upperpose.synth.appearance import Appearance, body_for_build
-from upperpose.synth.motions import MOTION_DESCRIPTIONS, MOTIONS, min_jerk, motion_angles
-from upperpose.synth.person import Light, Texture, person_solids, shade_person
-from upperpose.synth.raycast import cast
-from upperpose.synth.room import draw_room
 
 FloatArray = npt.NDArray[np.float64]
 Mask = npt.NDArray[np.bool_]
@@ -34,7 +34,7 @@ class ClipConfig:
     """Everything that defines a synthetic clip.
 
     Attributes:
-        motion: a key of `upperpose.synth.MOTIONS`.
+        motion: a key of `upperpose.lab.synth.MOTIONS`.
         frames: number of frames.
         seed: seeds every random choice (room, looks left unset, speeds, noise).
         width: image width, pixels.

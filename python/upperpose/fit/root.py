@@ -23,8 +23,8 @@ import numpy as np
 import numpy.typing as npt
 
 from upperpose.features import FrameFeatures
+from upperpose.fit.startup import pixels_per_metre, root_from_head
 from upperpose.model import BodyModel, Camera
-from upperpose.tracker.startup import pixels_per_metre, root_from_head
 
 
 class RootEstimator:

@@ -80,7 +80,7 @@ class Scores:
 
 
 def evaluate(prediction: dict[str, Any], truth: dict[str, Any], pck_threshold_px: float = PCK_THRESHOLD_PX) -> Scores:
-    """Scores a validated prediction against validated ground truth (see `upperpose.posefile`).
+    """Scores a validated prediction against validated ground truth (see `upperpose.io.posefile`).
 
     Raises:
         ValueError: the two files describe different image sizes, or the truth has no pose.

@@ -1,10 +1,10 @@
 """Runs the tracker on the development set and prints the per-clip table (docs/RESULTS.md).
 
-    python -m upperpose.tracker.devset [--no-plate] [--clips 01,03] [--seed N] [--jobs 2] [--set K=V ...]
+    python -m upperpose.lab.devset [--no-plate] [--clips 01,03] [--seed N] [--jobs 2] [--set K=V ...]
 
 For each clip: `upperpose track CLIP/video.mp4 [--background CLIP/background.png] --focal F -o
 OUT.json` (F from meta.json), then `upperpose eval OUT.json CLIP/gt.json --json`. `--set`
-overrides TrackerConfig fields for experiments (the track command is run in-process with them).
+overrides settings for experiments (K=V, V as JSON; written to a settings file for `--config`).
 """
 
 from __future__ import annotations
@@ -17,21 +17,9 @@ import tempfile
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
+from upperpose.fit.settings import config_from_dict, config_to_toml
+
 JOINTS = ["head", "right_shoulder", "left_shoulder", "right_elbow", "left_elbow", "right_hand", "left_hand"]
-RUNNER = """
-import json, sys
-import upperpose.commands.track as t
-from upperpose.tracker.tracker import TrackerConfig
-over = json.loads(sys.argv[1])
-base = t.tracker_config
-def patched(args):
-    c = base(args)
-    import dataclasses
-    return dataclasses.replace(c, **over)
-t.tracker_config = patched
-from upperpose.cli import main
-sys.exit(main(sys.argv[2:]))
-"""
 
 
 def run_clip(clip: Path, out_dir: Path, plate: bool, seed: int, overrides: dict) -> dict:
@@ -43,9 +31,10 @@ def run_clip(clip: Path, out_dir: Path, plate: bool, seed: int, overrides: dict)
     if plate:
         args += ["--background", str(clip / "background.png")]
     if overrides:
-        cmd = [sys.executable, "-c", RUNNER, json.dumps(overrides), *args]
-    else:
-        cmd = [sys.executable, "-m", "upperpose", *args]
+        settings = out_dir / f"{out.stem}.toml"
+        settings.write_text(config_to_toml(config_from_dict(overrides, "--set")), encoding="utf-8")
+        args += ["--config", str(settings)]
+    cmd = [sys.executable, "-m", "upperpose", *args]
     # A failed run leaves the frames done so far (Ctrl-C semantics): scoring those would flatter it.
     run = subprocess.run(cmd, check=False, capture_output=True, text=True)
     if run.returncode != 0:
@@ -107,7 +96,7 @@ def main() -> None:
     p.add_argument("--clips", default="")
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--jobs", type=int, default=2)
-    p.add_argument("--set", nargs="*", default=[], help="TrackerConfig overrides K=V (V as JSON)")
+    p.add_argument("--set", nargs="*", default=[], help="settings K=V (V as JSON)")
     p.add_argument("--summary", action="store_true", help="one line per clip instead of the table")
     a = p.parse_args()
     if not Path(a.devset).is_dir():

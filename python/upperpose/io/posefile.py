@@ -14,7 +14,8 @@ import os
 from pathlib import Path
 from typing import Any
 
-from upperpose.files import write_atomic
+from upperpose.exceptions import InputError
+from upperpose.io.files import write_atomic
 from upperpose.model import ANGLE_NAMES, JOINT_NAMES
 
 FORMAT = "upperpose.poses/1"
@@ -24,18 +25,18 @@ _EMPTY_STATUSES = ("no_person", "initialising")  # these carry no pose
 
 def _number(value: object, where: str) -> float:
     if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-        raise ValueError(f"{where} must be a finite number, got {value!r}")
+        raise InputError(f"{where} must be a finite number, got {value!r}")
     return float(value)
 
 
 def _points(value: object, dims: int, where: str) -> list[list[float]]:
     if not isinstance(value, list) or len(value) != len(JOINT_NAMES):
         got = f"{len(value)} entries" if isinstance(value, list) else repr(type(value).__name__)
-        raise ValueError(f"{where} must list {len(JOINT_NAMES)} joints ({', '.join(JOINT_NAMES)}), got {got}")
+        raise InputError(f"{where} must list {len(JOINT_NAMES)} joints ({', '.join(JOINT_NAMES)}), got {got}")
     out = []
     for j, point in enumerate(value):
         if not isinstance(point, list) or len(point) != dims:
-            raise ValueError(f"{where}[{j}] ({JOINT_NAMES[j]}) must be {dims} numbers, got {point!r}")
+            raise InputError(f"{where}[{j}] ({JOINT_NAMES[j]}) must be {dims} numbers, got {point!r}")
         out.append([_number(v, f"{where}[{j}]") for v in point])
     return out
 
@@ -48,28 +49,28 @@ def validate_frame(frame: object, index: int) -> dict[str, Any]:
     """
     where = f"frames[{index}]"
     if not isinstance(frame, dict):
-        raise ValueError(f"{where} must be an object, got {type(frame).__name__}")
+        raise InputError(f"{where} must be an object, got {type(frame).__name__}")
     number = frame.get("frame")
     if isinstance(number, bool) or not isinstance(number, int) or number < 0:
-        raise ValueError(f"{where}.frame must be a non-negative integer, got {number!r}")
+        raise InputError(f"{where}.frame must be a non-negative integer, got {number!r}")
     status = frame.get("status")
     if status not in STATUSES:
-        raise ValueError(f"{where}.status must be one of {', '.join(STATUSES)}, got {status!r}")
+        raise InputError(f"{where}.status must be one of {', '.join(STATUSES)}, got {status!r}")
     out = dict(frame)
     for key, dims in (("joints_2d", 2), ("joints_3d", 3)):
         value = frame.get(key)
         if value is None:
             out[key] = None
         elif status in _EMPTY_STATUSES:
-            raise ValueError(f"{where}: a {status!r} frame carries no {key} (must be null)")
+            raise InputError(f"{where}: a {status!r} frame carries no {key} (must be null)")
         else:
             out[key] = _points(value, dims, f"{where}.{key}")
     if status == "tracked" and out["joints_2d"] is None:
-        raise ValueError(f"{where}: a 'tracked' frame needs joints_2d")
+        raise InputError(f"{where}: a 'tracked' frame needs joints_2d")
     angles = frame.get("angles")
     if angles is not None:
         if not isinstance(angles, list) or len(angles) != len(ANGLE_NAMES):
-            raise ValueError(f"{where}.angles must be {len(ANGLE_NAMES)} numbers ({', '.join(ANGLE_NAMES)}) or null")
+            raise InputError(f"{where}.angles must be {len(ANGLE_NAMES)} numbers ({', '.join(ANGLE_NAMES)}) or null")
         out["angles"] = [_number(v, f"{where}.angles") for v in angles]
     cost = frame.get("cost")
     out["cost"] = None if cost is None else _number(cost, f"{where}.cost")
@@ -86,33 +87,33 @@ def validate_poses(data: object) -> dict[str, Any]:
         ValueError: the first problem found.
     """
     if not isinstance(data, dict):
-        raise ValueError(f"expected a JSON object, got {type(data).__name__}")
+        raise InputError(f"expected a JSON object, got {type(data).__name__}")
     if data.get("format") != FORMAT:
-        raise ValueError(f"format must be {FORMAT!r}, got {data.get('format')!r}")
+        raise InputError(f"format must be {FORMAT!r}, got {data.get('format')!r}")
     if data.get("joints", list(JOINT_NAMES)) != list(JOINT_NAMES):
-        raise ValueError(f"joints must be {list(JOINT_NAMES)}, got {data.get('joints')!r}")
+        raise InputError(f"joints must be {list(JOINT_NAMES)}, got {data.get('joints')!r}")
     if data.get("angles", list(ANGLE_NAMES)) != list(ANGLE_NAMES):
-        raise ValueError(f"angles must be {list(ANGLE_NAMES)}, got {data.get('angles')!r}")
+        raise InputError(f"angles must be {list(ANGLE_NAMES)}, got {data.get('angles')!r}")
     for key in ("width", "height"):
         v = data.get(key)
         if isinstance(v, bool) or not isinstance(v, int) or v <= 0:
-            raise ValueError(f"{key} must be a positive integer, got {v!r}")
+            raise InputError(f"{key} must be a positive integer, got {v!r}")
     out = dict(data)
     out["fps"] = _number(data.get("fps"), "fps")
     if out["fps"] <= 0:
-        raise ValueError(f"fps must be positive, got {out['fps']}")
+        raise InputError(f"fps must be positive, got {out['fps']}")
     if data.get("run_time_s") is not None:
         out["run_time_s"] = _number(data["run_time_s"], "run_time_s")
         if out["run_time_s"] < 0:
-            raise ValueError(f"run_time_s must not be negative, got {out['run_time_s']}")
+            raise InputError(f"run_time_s must not be negative, got {out['run_time_s']}")
     frames = data.get("frames")
     if not isinstance(frames, list):
-        raise ValueError(f"frames must be a list, got {type(frames).__name__}")
+        raise InputError(f"frames must be a list, got {type(frames).__name__}")
     checked = [validate_frame(f, i) for i, f in enumerate(frames)]
     seen: set[int] = set()
     for f in checked:
         if f["frame"] in seen:
-            raise ValueError(f"frame {f['frame']} appears more than once")
+            raise InputError(f"frame {f['frame']} appears more than once")
         seen.add(f["frame"])
     out["frames"] = sorted(checked, key=lambda f: f["frame"])
     return out
@@ -131,15 +132,15 @@ def load_poses(path: str | os.PathLike[str]) -> dict[str, Any]:
     except FileNotFoundError:
         raise OSError(f"no such file: {p}") from None
     except UnicodeDecodeError:
-        raise ValueError(f"{p}: not a text file") from None
+        raise InputError(f"{p}: not a text file") from None
     try:
         data = json.loads(text)
     except json.JSONDecodeError as err:
-        raise ValueError(f"{p}: not valid JSON ({err.msg} at line {err.lineno} column {err.colno})") from None
+        raise InputError(f"{p}: not valid JSON ({err.msg} at line {err.lineno} column {err.colno})") from None
     try:
         return validate_poses(data)
     except ValueError as err:
-        raise ValueError(f"{p}: {err}") from None
+        raise InputError(f"{p}: {err}") from None
 
 
 def make_poses(width: int, height: int, fps: float, frames: list[dict[str, Any]], **extra: Any) -> dict[str, Any]:

@@ -23,10 +23,10 @@ import numpy as np
 import numpy.typing as npt
 
 from upperpose.exceptions import VideoError
-from upperpose.files import write_atomic, write_image
+from upperpose.io.files import write_atomic, write_image
+from upperpose.io.posefile import make_poses, write_poses
+from upperpose.lab.synth.scene import ClipConfig, clean_plate, config_dict, plan_clip, render_frame
 from upperpose.model import Pose
-from upperpose.posefile import make_poses, write_poses
-from upperpose.synth.scene import ClipConfig, clean_plate, config_dict, plan_clip, render_frame
 
 META_FORMAT = "upperpose.clip/1"
 VIDEO, GT, META, BACKGROUND, MASKS = "video.mp4", "gt.json", "meta.json", "background.png", "masks.npz"

@@ -19,10 +19,9 @@ import numpy as np
 import numpy.typing as npt
 
 from upperpose._upperpose import joint_limits
-from upperpose.exceptions import UpperposeError
+from upperpose.exceptions import InputError
 from upperpose.features import Background, FeatureConfig, FeatureExtractor, FrameFeatures
-from upperpose.model import BodyModel, Camera, Pose, forward_kinematics, project, render_masks
-from upperpose.tracker.recovery import (
+from upperpose.fit.recovery import (
     ARMS,
     HAND_JOINT,
     HAND_POINT,
@@ -32,8 +31,9 @@ from upperpose.tracker.recovery import (
     hand_distances,
     unexplained_by_side,
 )
-from upperpose.tracker.root import RootEstimator
-from upperpose.tracker.startup import (
+from upperpose.fit.root import RootEstimator
+from upperpose.fit.search import SearchConfig, fit_frame
+from upperpose.fit.startup import (
     FaceBox,
     FaceDetector,
     check_apose,
@@ -46,7 +46,9 @@ from upperpose.tracker.startup import (
     startup_points,
     widened,
 )
-from upperpose.tracker.state import LOST, NO_PERSON, TRACKED, StateMachine
+from upperpose.fit.state import StateMachine
+from upperpose.model import BodyModel, Camera, Pose, forward_kinematics, project, render_masks
+from upperpose.result import NO_PERSON, TrackResult
 
 FloatArray = npt.NDArray[np.float64]
 PARTS = ("torso", "right_arm", "left_arm")
@@ -80,20 +82,6 @@ class StaticFit:
     stage_costs: dict[str, float] = field(default_factory=dict)
     terms: dict[str, Any] = field(default_factory=dict)
     evaluations: int = 0
-
-
-def default_fitter() -> Fitter:
-    """The Rust search, `upperpose.fit_frame`.
-
-    Raises:
-        UpperposeError: this build of upperpose has no search.
-    """
-    import upperpose
-
-    fit = getattr(upperpose, "fit_frame", None)
-    if fit is None:
-        raise UpperposeError("this build of upperpose has no search (fit_frame); rebuild the extension")
-    return fit  # type: ignore[no-any-return]
 
 
 @dataclass(frozen=True)
@@ -183,14 +171,10 @@ class TrackerConfig:
     doubt_frames: int = 3
     search_options: dict[str, Any] = field(default_factory=dict)
 
-    def search_config(self) -> Any:
-        """The `upperpose.SearchConfig` to use (None when the extension has none)."""
+    def search_config(self) -> SearchConfig:
+        """The `upperpose.SearchConfig` to use."""
         if self.search is not None:
             return self.search
-        try:
-            from upperpose import SearchConfig  # type: ignore[attr-defined]
-        except ImportError:
-            return None
         given = {
             "particles": self.particles,
             "iterations": self.iterations,
@@ -206,52 +190,6 @@ class TrackerConfig:
             **{k: v for k, v in given.items() if v is not None},
         }
         return SearchConfig(**{**kwargs, **self.search_options})
-
-
-@dataclass(frozen=True)
-class TrackResult:
-    """The tracker's answer for one frame.
-
-    Attributes:
-        frame: frame number (0 = the first frame given to the tracker).
-        status: "no_person", "initialising", "tracked" or "lost".
-        pose: `(13,)` angles in radians (ANGLE_NAMES order), or None without a person.
-        root: `(3,)` root position, metres, camera frame; or None.
-        joints_2d: `(7, 2)` pixels (JOINT_NAMES order); or None.
-        joints_3d: `(7, 3)` metres, camera frame; or None.
-        cost: the search's cost at the fit; or None.
-        searched: the parts searched this frame.
-        lost_parts: the arms that are lost.
-        timings: wall seconds per stage: "features", "startup", "search", "other".
-    """
-
-    frame: int
-    status: str
-    pose: FloatArray | None = None
-    root: FloatArray | None = None
-    joints_2d: FloatArray | None = None
-    joints_3d: FloatArray | None = None
-    cost: float | None = None
-    searched: tuple[str, ...] = ()
-    lost_parts: tuple[str, ...] = ()
-    timings: dict[str, float] = field(default_factory=dict)
-
-    def to_record(self) -> dict[str, Any]:
-        """The frame as a SPEC 9 "frames" entry (plus "root")."""
-
-        def rows(a: FloatArray | None) -> list[list[float]] | None:
-            return None if a is None else [[float(v) for v in row] for row in a]
-
-        has_pose = self.status in (TRACKED, LOST) and self.pose is not None
-        return {
-            "frame": self.frame,
-            "status": self.status,
-            "joints_2d": rows(self.joints_2d) if has_pose else None,
-            "joints_3d": rows(self.joints_3d) if has_pose else None,
-            "angles": [float(v) for v in self.pose] if has_pose and self.pose is not None else None,
-            "cost": float(self.cost) if has_pose and self.cost is not None and np.isfinite(self.cost) else None,
-            "root": [float(v) for v in self.root] if has_pose and self.root is not None else None,
-        }
 
 
 def torso_cost(fit: FitLike) -> float:
@@ -329,7 +267,7 @@ class Tracker:
         self.size = background.size
         self.fps = float(fps) if fps and fps > 0 else 30.0
         self._extract = FeatureExtractor(background, cfg.features, reuse_buffers=True)
-        self._fitter = fitter or default_fitter()
+        self._fitter: Fitter = fitter or fit_frame
         self._search_config = cfg.search_config()
         self._detect_faces = face_detector or FaceDetector()
         self._base_body = body or BodyModel()
@@ -368,12 +306,17 @@ class Tracker:
     def force_lost(self, arm: str) -> None:
         """Marks an arm lost, as if the lost detector had fired (for tests and experiments)."""
         if arm not in ARMS:
-            raise ValueError(f"arm must be one of {ARMS}, got {arm!r}")
+            raise InputError(f"arm must be one of {ARMS}, got {arm!r}")
         self._lost.force_lost(arm)
         if self._last_joints is not None:
             self._follow.start(arm, self._last_joints[HAND_JOINT[arm]], self._shoulder_px())
 
     # -- the frame loop -----------------------------------------------------------------------
+
+    @property
+    def search_config(self) -> SearchConfig:
+        """The search settings every fit of this tracker uses (its seed is the one that counts)."""
+        return self._search_config
 
     def update(self, frame: npt.NDArray[np.uint8], timestamp: float | None = None) -> TrackResult:
         """Tracks one frame.
@@ -725,4 +668,4 @@ class Tracker:
         self._follow.reset()
 
 
-__all__ = ["PARTS", "StaticFit", "TrackResult", "Tracker", "TrackerConfig", "default_fitter"]
+__all__ = ["PARTS", "StaticFit", "TrackResult", "Tracker", "TrackerConfig"]

@@ -12,11 +12,10 @@ import os
 from pathlib import Path
 from typing import Any
 
-from upperpose.files import write_atomic
+from upperpose.io.files import write_atomic
+from upperpose.io.posefile import make_poses, write_poses
 from upperpose.model import ANGLE_NAMES, JOINT_NAMES
-from upperpose.posefile import make_poses, write_poses
-from upperpose.tracker.state import LOST, TRACKED
-from upperpose.tracker.tracker import TrackResult
+from upperpose.result import LOST, TRACKED, TrackResult
 
 
 def csv_header() -> list[str]:

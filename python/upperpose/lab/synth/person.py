@@ -14,10 +14,10 @@ from dataclasses import dataclass
 import numpy as np
 import numpy.typing as npt
 
+from upperpose.lab.synth.appearance import HAIR_COLOURS, SHIRT_COLOURS, SKIN_TONES, TROUSER_COLOURS, Appearance
+from upperpose.lab.synth.face import sample_face
+from upperpose.lab.synth.raycast import Ellipsoid, FloatArray, Hits, Trunk, sweep
 from upperpose.model import BodyModel, Pose, skeleton
-from upperpose.synth.appearance import HAIR_COLOURS, SHIRT_COLOURS, SKIN_TONES, TROUSER_COLOURS, Appearance
-from upperpose.synth.face import sample_face
-from upperpose.synth.raycast import Ellipsoid, FloatArray, Hits, Trunk, sweep
 
 # Surface kinds; a pixel's kind decides its material.
 SHIRT, SKIN, HEAD, HAIR = "shirt", "skin", "head", "hair"

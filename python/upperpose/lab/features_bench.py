@@ -1,7 +1,7 @@
 """Benchmark of the per-frame features: median milliseconds per stage on synthetic frames.
 
 Not a test: wall-clock numbers depend on the machine. `upperpose bench` can call
-`benchmark_features()`; `python -m upperpose.features.bench` prints a table.
+`benchmark_features()`; `python -m upperpose.lab.features_bench` prints a table.
 """
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ import cv2
 from upperpose.features.background import Background
 from upperpose.features.config import SKIN_SPACES, FeatureConfig
 from upperpose.features.extractor import FeatureExtractor
-from upperpose.features.scene import render_scene, textured_background
+from upperpose.lab.feature_scene import render_scene, textured_background
 from upperpose.model import Pose
 
 

@@ -14,7 +14,7 @@ import numpy as np
 import numpy.typing as npt
 
 from upperpose.exceptions import UpperposeError
-from upperpose.synth.appearance import SKIN_TONES
+from upperpose.lab.synth.appearance import SKIN_TONES
 
 # Face oval in the 512x512 photo: centre and half-axes, pixels.
 FACE_CENTRE = (222.0, 120.0)

@@ -1,0 +1,7 @@
+"""Development tooling, not the product.
+
+Synthetic clips with exact truth (`synth`), scoring
+(`evaluate`), the thesis' comparison of optimisers (`compare`), dev-set runners (`devset`,
+`features_devset`), refits and benches. `lab` imports the product; the product never imports
+`lab`.
+"""
