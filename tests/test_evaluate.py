@@ -168,3 +168,53 @@ def test_cli_json_and_errors(tmp_path: Path, capsys: pytest.CaptureFixture[str])
     assert err.count("\n") == 1 and "bad.json" in err and "Traceback" not in err
     assert main(["eval", str(tmp_path / "nope.json"), str(tmp_path / "gt.json")]) == 1
     assert "no such file" in capsys.readouterr().err
+
+
+def moving(n: int = 90) -> dict[str, Any]:
+    """Ground truth whose joints move smoothly (a sine per joint and axis)."""
+    t = np.arange(n)[:, None, None]
+    phase = np.arange(14).reshape(1, 7, 2)
+    j2 = 300 + 40 * np.sin(2 * np.pi * t / 30 + phase)
+    frames = [
+        {"frame": i, "status": "tracked", "joints_2d": j2[i].tolist(), "joints_3d": None, "angles": None, "cost": None}
+        for i in range(n)
+    ]
+    return validate_poses(make_poses(640, 480, 30.0, frames))
+
+
+def test_motion_errors_of_the_truth_itself() -> None:
+    gt = moving()
+    s = evaluate(gt, gt)
+    assert s.accel_error_px == 0.0 and s.lag_frames == 0
+
+
+def test_alternating_jitter_has_its_exact_acceleration_error() -> None:
+    # +-1 px in x on alternate frames: every second difference of the jitter is +-4 px.
+    gt = moving()
+    pred = copy.deepcopy(gt)
+    for f in pred["frames"]:
+        sign = 1 if f["frame"] % 2 else -1
+        f["joints_2d"] = [[x + sign, y] for x, y in f["joints_2d"]]
+    s = evaluate(pred, gt)
+    assert s.accel_error_px == pytest.approx(4.0, abs=1e-9)
+    assert s.lag_frames == 0
+
+
+@pytest.mark.parametrize("delay", [1, 3, -2])
+def test_a_delayed_prediction_reports_its_lag(delay: int) -> None:
+    gt = moving(120)
+    pred = copy.deepcopy(gt)
+    by_frame = {f["frame"]: f["joints_2d"] for f in gt["frames"]}
+    for f in pred["frames"]:
+        f["joints_2d"] = by_frame[min(max(f["frame"] - delay, 0), 119)]
+    assert evaluate(pred, gt).lag_frames == delay
+
+
+def test_acceleration_needs_three_consecutive_frames() -> None:
+    gt = moving(10)
+    pred = copy.deepcopy(gt)
+    for f in pred["frames"]:
+        if f["frame"] % 2:
+            f["joints_2d"] = None
+    s = evaluate(pred, gt)
+    assert s.accel_error_px is None and s.lag_frames is None

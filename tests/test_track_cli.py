@@ -229,3 +229,18 @@ def test_same_seed_same_poses(tmp_path: Path, capsys: pytest.CaptureFixture[str]
         docs.append(doc)
     assert docs[0] == docs[1]
     assert any(f["status"] == "tracked" for f in docs[0]["frames"])
+
+
+def test_start_up_that_never_passes_is_one_line(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], fake_search: TruthFitter
+) -> None:
+    folder = clip()
+    settings = tmp_path / "never.toml"
+    settings.write_text("confirm_frames = 100000\n")
+    out = tmp_path / "o.json"
+    args = [str(folder / "video.mp4"), "--background", str(folder / "background.png"), "-o", str(out)]
+    code, _, err = track(args + ["--config", str(settings)], capsys)
+    assert code == 1 and "tracking never started" in one_line_error(err)
+    doc = load_poses(out)
+    assert "initialising" in {f["status"] for f in doc["frames"]}
+    assert doc["settings"]["confirm_frames"] == 100000

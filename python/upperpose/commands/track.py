@@ -192,6 +192,12 @@ def run(args: argparse.Namespace) -> int:
             f"no person found in {args.video} ({frames} frames): start-up needs a frontal face and the "
             f"A-pose (arms straight, 30-40 degrees out); wrote an all-'no_person' {args.output}"
         )
+    if recorder.count(TRACKED, LOST) == 0:
+        raise UpperposeError(
+            f"tracking never started in {args.video} ({frames} frames): a face was seen but start-up needs "
+            f"the A-pose (arms straight, 30-40 degrees out) for {config.confirm_frames} frames in a row; "
+            f"wrote {args.output} without a pose"
+        )
     if not args.quiet:
         tracked, lost = recorder.count(TRACKED), recorder.count(LOST)
         first = next(r["frame"] for r in recorder.records if r["status"] in (TRACKED, LOST))

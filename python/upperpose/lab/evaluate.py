@@ -4,7 +4,10 @@ Per joint and image axis, the mean absolute pixel difference between predicted a
 joints over the frames where both have a 2D pose; their averages; 2D MPJPE and PCK; the
 root-relative 3D error in millimetres (root: the midpoint of the shoulders) where both carry
 3D joints (it replaces the table's undefined "z in pixels", SPEC 8); the share of ground-truth
-poses the prediction covers; and frames per second when the prediction records its run time.
+poses the prediction covers; the acceleration error (jitter: the mean 2D distance between the
+predicted and the true second differences over three consecutive compared frames) and the lag
+(the frame shift that best lines the predicted joint velocities up with the true ones); and
+frames per second when the prediction records its run time.
 Frames are matched by their "frame" number; a ground-truth pose with no predicted pose (a
 missing frame, or a frame without joints) counts against coverage only.
 """
@@ -19,6 +22,7 @@ import numpy as np
 from upperpose.model import JOINT_NAMES
 
 PCK_THRESHOLD_PX = 10.0
+MAX_LAG_FRAMES = 5
 _LABELS = [n.replace("_", " ").capitalize() for n in JOINT_NAMES]
 
 
@@ -43,6 +47,12 @@ class Scores:
         missing_frames: ground-truth frame numbers absent from the prediction.
         unposed_frames: ground-truth pose frames whose prediction is present but has no pose.
         extra_frames: predicted frame numbers absent from the ground truth.
+        accel_error_px: mean |second difference of the prediction - that of the truth| per joint,
+            pixels per frame squared, over frames whose neighbours are compared too (None
+            without three consecutive compared frames).
+        lag_frames: the shift in frames (positive: the prediction trails the truth) within
+            +-MAX_LAG_FRAMES that maximises the correlation of predicted and true joint
+            velocities (None without enough consecutive frames or motion).
         fps: predicted frames / run_time_s, None when the prediction has no run time.
     """
 
@@ -62,6 +72,8 @@ class Scores:
     missing_frames: list[int]
     unposed_frames: list[int]
     extra_frames: list[int]
+    accel_error_px: float | None
+    lag_frames: int | None
     fps: float | None
 
     def to_dict(self) -> dict[str, Any]:
@@ -124,6 +136,7 @@ def evaluate(prediction: dict[str, Any], truth: dict[str, Any], pck_threshold_px
         err = np.linalg.norm(p3 - t3, axis=2) * 1000.0
         per_joint_3d = [float(v) for v in err.mean(axis=0)]
         mpjpe_3d = float(err.mean())
+    accel, lag = _motion_errors({t["frame"]: (p["joints_2d"], t["joints_2d"]) for p, t in pairs})
     run_time = prediction.get("run_time_s")
     fps = len(prediction["frames"]) / run_time if run_time else None
     return Scores(
@@ -143,8 +156,54 @@ def evaluate(prediction: dict[str, Any], truth: dict[str, Any], pck_threshold_px
         missing_frames=missing,
         unposed_frames=unposed,
         extra_frames=sorted(set(predicted) - gt_numbers),
+        accel_error_px=accel,
+        lag_frames=lag,
         fps=fps,
     )
+
+
+def _motion_errors(joints: dict[int, tuple[Any, Any]]) -> tuple[float | None, int | None]:
+    """Acceleration error and lag from frame -> (predicted, true) 2D joints of compared frames."""
+    runs: list[list[int]] = []
+    for n in sorted(joints):
+        if runs and n == runs[-1][-1] + 1:
+            runs[-1].append(n)
+        else:
+            runs.append([n])
+    accel: list[Any] = []
+    velocity: list[tuple[Any, Any]] = []
+    for run in runs:
+        if len(run) < 2:
+            continue
+        pred = np.array([joints[n][0] for n in run], dtype=float)
+        true = np.array([joints[n][1] for n in run], dtype=float)
+        velocity.append((np.diff(pred, axis=0), np.diff(true, axis=0)))
+        if len(run) >= 3:
+            gap = np.diff(pred, 2, axis=0) - np.diff(true, 2, axis=0)
+            accel.append(np.linalg.norm(gap, axis=2).ravel())
+    accel_error = float(np.concatenate(accel).mean()) if accel else None
+    return accel_error, _lag(velocity)
+
+
+def _lag(velocity: list[tuple[Any, Any]]) -> int | None:
+    """The shift (prediction behind truth > 0) that maximises the velocities' correlation."""
+    best: tuple[float, int] | None = None
+    for shift in range(-MAX_LAG_FRAMES, MAX_LAG_FRAMES + 1):
+        dot = norm_p = norm_t = 0.0
+        for vp, vt in velocity:
+            n = len(vp) - abs(shift)
+            if n <= 0:
+                continue
+            a = vp[shift:] if shift >= 0 else vp[:shift]
+            b = vt[: len(vt) - shift] if shift >= 0 else vt[-shift:]
+            dot += float((a * b).sum())
+            norm_p += float((a * a).sum())
+            norm_t += float((b * b).sum())
+        if norm_p > 0 and norm_t > 0:
+            corr = dot / np.sqrt(norm_p * norm_t)
+            if best is None or corr > best[0] + 1e-12:
+                best = (corr, shift)
+    return None if best is None else best[1]
 
 
 def _fmt(v: float | None, digits: int = 2) -> str:
@@ -186,6 +245,8 @@ def format_table(scores: Scores) -> str:
         "",
         f"2D MPJPE: {_fmt(scores.mpjpe_2d_px, 2)} px   PCK@{scores.pck_threshold_px:g}px: {_fmt(scores.pck * 100, 1)} %"
         + ("" if scores.mpjpe_3d_mm is None else f"   3D MPJPE (root-relative): {_fmt(scores.mpjpe_3d_mm, 1)} mm"),
+        f"acceleration error: {_fmt(scores.accel_error_px, 2)} px/frame^2   lag: "
+        + ("-" if scores.lag_frames is None else f"{scores.lag_frames} frames"),
         f"coverage: {scores.compared_frames}/{scores.gt_pose_frames} ground-truth poses "
         f"({_fmt(scores.coverage * 100, 1)} %); ground truth has {scores.gt_frames} frames",
     ]
