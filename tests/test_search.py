@@ -226,11 +226,13 @@ def test_search_config_checks_and_reports_its_settings() -> None:
     spec = upperpose.SearchConfig(mask_other_arm_edges=False, sil_by_part_area=False)
     assert (spec.mask_other_arm_edges, spec.sil_by_part_area) == (False, False)
     for bad, message in [
-        ({"particles": 0}, "particles must be >= 1"),
+        ({"particles": 0}, r"particles must be within 1\.\.=10000, got 0"),
+        ({"particles": 10**9}, r"particles must be within 1\.\.=10000"),
+        ({"iterations": 10**9}, r"iterations must be within 1\.\.=10000"),
         ({"weights": {"elbow": 1.0}}, 'unknown weight "elbow"'),
         ({"limits": "loose"}, "limits must be"),
-        ({"threads": 0}, "threads must be >= 1"),
-        ({"row_steps": (0, 1, 1)}, "row_steps must all be >= 1"),
+        ({"threads": 0}, r"threads must be within 1\.\.=1024"),
+        ({"row_steps": (0, 1, 1)}, r"row_steps\[0\] must be >= 1"),
         ({"c0": -1.0}, "c0 must be > 0"),
         ({"behind_weight": -1.0}, "behind_weight must be >= 0"),
         ({"turn_weight": float("nan")}, "turn_weight must be >= 0"),

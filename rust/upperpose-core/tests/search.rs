@@ -539,3 +539,24 @@ fn the_rotation_prior_holds_an_unseen_rotation_and_yields_to_a_seen_one() {
         );
     }
 }
+
+#[test]
+fn search_config_validation_names_the_setting() {
+    use upperpose_core::search::{SearchConfig, MAX_PARTICLES};
+    assert!(SearchConfig::default().validate().is_ok());
+    let cases: [(&str, fn(&mut SearchConfig)); 7] = [
+        ("particles", |c| c.swarm.particles = 0),
+        ("particles", |c| c.swarm.particles = MAX_PARTICLES + 1),
+        ("iterations", |c| c.swarm.iterations = usize::MAX),
+        ("threads", |c| c.threads = Some(0)),
+        ("weights[edge]", |c| c.weights.edge = f64::NAN),
+        ("row_steps[2]", |c| c.row_steps[2] = 0),
+        ("root_window", |c| c.root_window = -0.1),
+    ];
+    for (name, spoil) in cases {
+        let mut c = SearchConfig::default();
+        spoil(&mut c);
+        let message = c.validate().unwrap_err().to_string();
+        assert!(message.starts_with(name), "{message}");
+    }
+}

@@ -113,29 +113,9 @@ impl PySearchConfig {
             annealing: annealing.unwrap_or(d.annealing),
             max_speed: max_speed.unwrap_or(d.max_speed),
         };
-        if c.swarm.particles == 0 {
-            return Err(errors::input_error("particles must be >= 1, got 0"));
-        }
-        if !(c.swarm.c0 > 0.0 && c.swarm.c0.is_finite()) {
-            return Err(errors::input_error(format!(
-                "c0 must be > 0, got {}",
-                c.swarm.c0
-            )));
-        }
-        if !(c.swarm.max_speed > 0.0 && c.swarm.max_speed <= 1.0) {
-            return Err(errors::input_error(format!(
-                "max_speed must be in (0, 1], got {}",
-                c.swarm.max_speed
-            )));
-        }
         if let Some(w) = weights {
             let mut x = c.weights;
             for (name, value) in w {
-                if !value.is_finite() {
-                    return Err(errors::input_error(format!(
-                        "weights[{name:?}] must be finite, got {value}"
-                    )));
-                }
                 let slot = match name.as_str() {
                     "sil" => &mut x.sil,
                     "edge" => &mut x.edge,
@@ -168,36 +148,21 @@ impl PySearchConfig {
         c.mask_other_arm_edges = mask_other_arm_edges;
         c.sil_by_part_area = sil_by_part_area;
         c.merged_skin = merged_skin;
-        if threads == Some(0) {
-            return Err(errors::input_error("threads must be >= 1, got 0"));
-        }
         c.threads = threads;
         c.seed = seed;
-        for (name, v, slot) in [
-            ("root_window", root_window, &mut c.root_window),
-            (
-                "initial_root_window",
-                initial_root_window,
-                &mut c.initial_root_window,
-            ),
-            ("behind_weight", behind_weight, &mut c.behind_weight),
-            ("behind_margin", behind_margin, &mut c.behind_margin),
-            ("turn_weight", turn_weight, &mut c.turn_weight),
-            ("rotation_weight", rotation_weight, &mut c.rotation_weight),
+        for (v, slot) in [
+            (root_window, &mut c.root_window),
+            (initial_root_window, &mut c.initial_root_window),
+            (behind_weight, &mut c.behind_weight),
+            (behind_margin, &mut c.behind_margin),
+            (turn_weight, &mut c.turn_weight),
+            (rotation_weight, &mut c.rotation_weight),
         ] {
             if let Some(v) = v {
-                if !(v >= 0.0 && v.is_finite()) {
-                    return Err(errors::input_error(format!("{name} must be >= 0, got {v}")));
-                }
                 *slot = v;
             }
         }
         if let Some((a, b, d)) = row_steps {
-            if a < 1 || b < 1 || d < 1 {
-                return Err(errors::input_error(format!(
-                    "row_steps must all be >= 1, got ({a}, {b}, {d})"
-                )));
-            }
             c.row_steps = [a, b, d];
         }
         c.optimizer = Optimizer::from_name(optimizer).ok_or_else(|| {
@@ -206,11 +171,9 @@ impl PySearchConfig {
             ))
         })?;
         if let Some(v) = sigma {
-            if !(v > 0.0 && v.is_finite()) {
-                return Err(errors::input_error(format!("sigma must be > 0, got {v}")));
-            }
             c.sigma = v;
         }
+        c.validate().py()?;
         Ok(PySearchConfig {
             inner: c,
             limits_name: limits.to_string(),

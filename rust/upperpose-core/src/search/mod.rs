@@ -172,6 +172,96 @@ impl Default for SearchConfig {
     }
 }
 
+/// Largest swarm per stage: beyond it a frame takes seconds and the particle buffers grow
+/// without bound (a typo such as 10^9 particles would otherwise abort on allocation).
+pub const MAX_PARTICLES: usize = 10_000;
+/// Most swarm iterations per stage, for the same reason.
+pub const MAX_ITERATIONS: usize = 10_000;
+/// Most worker threads.
+pub const MAX_THREADS: usize = 1024;
+
+impl SearchConfig {
+    /// Checks every setting's range; the one place they are checked (the Python binding
+    /// only converts names to values).
+    pub fn validate(&self) -> Result<()> {
+        let count = |name: &'static str, value: usize, max: usize, expected: &'static str| {
+            if value == 0 || value > max {
+                return Err(CoreError::OutOfRange {
+                    name,
+                    expected,
+                    value: value as f64,
+                });
+            }
+            Ok(())
+        };
+        count(
+            "particles",
+            self.swarm.particles,
+            MAX_PARTICLES,
+            "within 1..=10000",
+        )?;
+        count(
+            "iterations",
+            self.swarm.iterations,
+            MAX_ITERATIONS,
+            "within 1..=10000",
+        )?;
+        if let Some(threads) = self.threads {
+            count("threads", threads, MAX_THREADS, "within 1..=1024")?;
+        }
+        positive("c0", self.swarm.c0)?;
+        if !(self.swarm.max_speed > 0.0 && self.swarm.max_speed <= 1.0) {
+            return Err(CoreError::OutOfRange {
+                name: "max_speed",
+                expected: "in (0, 1]",
+                value: self.swarm.max_speed,
+            });
+        }
+        let w = &self.weights;
+        for (name, value) in [
+            ("weights[sil]", w.sil),
+            ("weights[edge]", w.edge),
+            ("weights[motion]", w.motion),
+            ("weights[skin]", w.skin),
+            ("weights[arm]", w.arm),
+            ("weights[ratio]", w.ratio),
+            ("weights[cover]", w.cover),
+        ] {
+            finite(name, value)?;
+        }
+        for (name, value) in [
+            ("root_window", self.root_window),
+            ("initial_root_window", self.initial_root_window),
+            ("behind_weight", self.behind_weight),
+            ("behind_margin", self.behind_margin),
+            ("turn_weight", self.turn_weight),
+            ("rotation_weight", self.rotation_weight),
+        ] {
+            if !(value >= 0.0 && value.is_finite()) {
+                return Err(CoreError::OutOfRange {
+                    name,
+                    expected: ">= 0",
+                    value,
+                });
+            }
+        }
+        for (name, step) in ["row_steps[0]", "row_steps[1]", "row_steps[2]"]
+            .into_iter()
+            .zip(self.row_steps)
+        {
+            if step < 1 {
+                return Err(CoreError::OutOfRange {
+                    name,
+                    expected: ">= 1",
+                    value: f64::from(step),
+                });
+            }
+        }
+        positive("sigma", self.sigma)?;
+        Ok(())
+    }
+}
+
 /// One frame's inputs.
 #[derive(Debug, Clone, Copy)]
 pub struct FrameRequest<'a> {
@@ -662,6 +752,7 @@ fn check(req: &FrameRequest) -> Result<()> {
 
 /// Fits one frame: torso, right arm, left arm.
 pub fn fit_frame(req: &FrameRequest, config: &SearchConfig) -> Result<FrameFit> {
+    config.validate()?;
     check(req)?;
     let threads = parallel::resolve_threads(config.threads, config.swarm.particles)?;
     let pool = parallel::pool(threads)?;
