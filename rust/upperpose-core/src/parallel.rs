@@ -11,8 +11,7 @@ pub const THREADS_ENV: &str = "UPPERPOSE_NUM_THREADS";
 
 /// Particles per worker thread by default. Handing a swarm iteration to the pool and waiting
 /// for it costs thread wake-ups, which outweigh the split below about this many particles
-/// (2-core machine, dev-set clip 01, every part searched: search per frame 1.8 ms on one thread
-/// against 3.2 on two at 24 particles, 3.3 against 4.5 at 48, 6.5 against 5.2 at 96).
+/// (measured in docs/search.md, "Parallel and deterministic").
 pub const PARTICLES_PER_THREAD: usize = 64;
 
 /// The thread count to use: `requested`, else `UPPERPOSE_NUM_THREADS`, else one thread per

@@ -33,8 +33,8 @@ pub struct SwarmConfig {
 
 impl Default for SwarmConfig {
     fn default() -> Self {
-        // Chosen on the development set: 24 x 16 fits as well as 32 x 24 (3.50 against 3.52 px
-        // mean joint error) with half the evaluations (docs/search.md).
+        // The smallest swarm that fits as well as larger ones, at half their evaluations
+        // (docs/search.md).
         SwarmConfig {
             particles: 24,
             iterations: 16,

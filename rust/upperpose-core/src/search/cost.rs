@@ -32,9 +32,9 @@ pub struct CostWeights {
 }
 
 impl Default for CostWeights {
-    /// Chosen on the development set (docs/cost.md). The Arm term is off: with the base
-    /// drawn in, Sil already scores the arm against the silhouette outside the torso, and
-    /// counting it twice made fits worse (3.51 against 3.38 px) and slower.
+    /// See docs/cost.md for how they were chosen. The Arm term is off: with the base drawn
+    /// in, Sil already scores the arm against the silhouette outside the torso, and counting
+    /// it twice only adds noise and time.
     fn default() -> Self {
         CostWeights {
             sil: 12.0,

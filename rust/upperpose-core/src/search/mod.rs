@@ -106,9 +106,9 @@ pub struct SearchConfig {
     pub threads: Option<usize>,
     pub seed: u64,
     /// Half-width in metres of the torso stage's search over the root's X and Y while
-    /// tracking; 0 keeps the root given. Off by default: on the development set the extra
-    /// freedom absorbed differences between the model's shape and the person's (joints 1-3 px
-    /// worse), so the root comes from the image alone.
+    /// tracking; 0 keeps the root given. Off by default: the extra freedom lets the root
+    /// absorb differences between the model's shape and the person's, so the root comes from
+    /// the image alone (docs/search.md).
     pub root_window: f64,
     /// The same in [`Mode::Initial`].
     pub initial_root_window: f64,
