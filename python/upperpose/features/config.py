@@ -40,7 +40,7 @@ class PersonTemplate:
     """Probable person: torso half width at its top and at the image bottom, in w (the body
     model's torso is 0.32 m wide, a face box about 0.2 m). Arms hanging beside the torso are
     left to the colour model, so that the room between arm and torso is not taken for the
-    person (1.0, 0.9 here: dev-set mean IoU 0.82 against 0.90)."""
+    person."""
 
     reach_top: float = 0.9
     """Probable background band: top of its trapezoid, in h."""
@@ -187,8 +187,8 @@ class FeatureConfig:
     part_min_share: float = 0.1
     """Hand and head matching: no part takes a blob smaller than this share of the part's
     expected area (`points.PART_AREAS`, from the predicted shoulder width). Smaller blobs near
-    the face are scraps of it or of the hair: with a hand on the face, the hand took one and was
-    not reported merged (04, 09: points 35-50 px off), and kept from it, the head took one."""
+    the face are scraps of it or of the hair: with a hand on the face the hand would take one
+    and not be reported merged, and the head would take one."""
 
     hand_length: float = 0.5
     """Hand point: the point is the centroid of the last `hand_length` shoulder widths of
@@ -278,8 +278,7 @@ class FeatureConfig:
 
     bg_face_min_skin: float = 0.5
     """Background estimation: a face box counts as a person only when at least this share of it
-    is skin (faces in the dev set's frames are 72-98 % skin, false boxes on shelves and
-    furniture 13-33 %)."""
+    is skin (real faces are mostly skin, false boxes on shelves and furniture mostly not)."""
 
     bg_face_samples: int = 8
     """Background estimation: when the median image shows no face (the head moved too much),

@@ -208,9 +208,9 @@ def measure_body(
         points: `(3, 2)` head, right hand, left hand (hands may be NaN: arms keep the averages).
         base: dimensions to start from (adult averages when None).
         silhouette: I_sil of this frame, for the shoulder width (None: not measured). The
-            tracker leaves it out: on the synthetic dev set the silhouette just below the
-            shoulders is 0-25 % wider than the cone model's for the same person (sloping
-            shoulders, clothes, the silhouette's closing), which made things worse.
+            tracker leaves it out: the silhouette just below the shoulders is wider than the
+            cone model's for the same person (sloping shoulders, clothes, the silhouette's
+            closing), so it overstates the width.
         face_width_px: face width for the depth; this frame's box when None.
         max_change: the largest relative change of a measured dimension.
 

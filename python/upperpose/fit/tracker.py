@@ -126,8 +126,8 @@ class TrackerConfig:
             stage costs least is kept (the face box's depth is about 10 % off, which leaves
             the shoulders too high or low). Empty: the averages.
         startup_frontal: fit the start-up frame with the torso's turn held at zero. Off by
-            default: over three seeds on the development set it lost more frames than it
-            saved (docs/tracker.md); the turn's own window (+-0.05 rad x 3) is narrow enough.
+            default: the turn's own window (+-0.05 rad x 3) is already narrow, and holding it
+            costs more frames than it saves (docs/tracker.md).
         velocity_window_gain: an arm's trajectory windows are widened by 1 + gain x its last
             frame-to-frame change (largest angle change, in units of 0.15 rad at 30 fps), so
             that a fast wave does not outrun them.
