@@ -244,3 +244,48 @@ def test_start_up_that_never_passes_is_one_line(
     doc = load_poses(out)
     assert "initialising" in {f["status"] for f in doc["frames"]}
     assert doc["settings"]["confirm_frames"] == 100000
+
+
+@pytest.mark.parametrize(
+    ("extra", "message"),
+    [
+        (["--seed", "-1"], "--seed must be within 0..2**64-1"),
+        (["--seed", str(2**64)], "--seed must be within 0..2**64-1"),
+        (["--focal", "1e-300"], "--focal must be within 1..100000 pixels"),
+        (["--focal", "nan"], "--focal must be within"),
+        (["--particles", "1000000000"], "particles must be within 1..=10000"),
+        (["--iterations", "1000000000"], "iterations must be within 1..=10000"),
+    ],
+)
+def test_out_of_range_options_are_one_line(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], extra: list[str], message: str
+) -> None:
+    folder = clip()
+    out = tmp_path / "o.json"
+    code, _, err = track([str(folder / "video.mp4"), "-o", str(out), *extra], capsys)
+    assert code == 1 and message in one_line_error(err)
+    assert not out.exists()
+
+
+def test_two_outputs_naming_one_file_are_refused(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    folder = clip()
+    out = tmp_path / "o.json"
+    code, _, err = track([str(folder / "video.mp4"), "-o", str(out), "--csv", str(tmp_path / "." / "o.json")], capsys)
+    assert code == 1 and "two outputs name the same file" in one_line_error(err)
+    assert not out.exists()
+
+
+@pytest.mark.parametrize(("width", "height"), [(16, 16), (8000, 8)])
+def test_frames_too_small_or_thin_are_refused(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], width: int, height: int
+) -> None:
+    video = write_video(tmp_path / "tiny.mp4", [np.zeros((height, width, 3), np.uint8)] * 3)
+    code, _, err = track([str(video), "-o", str(tmp_path / "o.json")], capsys)
+    line = one_line_error(err)
+    assert code == 1 and f"is {width}x{height}" in line and "32..8192 pixels a side" in line
+
+
+@pytest.mark.parametrize(("source", "error"), [(-1, "camera index must be within 0..1023"), (True, "video must be")])
+def test_bad_camera_index_is_refused_before_opening(source: object, error: str) -> None:
+    with pytest.raises((ValueError, TypeError), match=error):
+        VideoReader(source)  # type: ignore[arg-type]

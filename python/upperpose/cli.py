@@ -8,6 +8,8 @@ import os
 import sys
 from collections.abc import Sequence
 
+import cv2
+
 from upperpose import __version__
 from upperpose.exceptions import UpperposeError
 
@@ -47,11 +49,26 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("upperpose: interrupted", file=sys.stderr)
         return 130
-    except (UpperposeError, ValueError, TypeError, OSError) as err:
+    except (UpperposeError, ValueError, TypeError, OSError, OverflowError, cv2.error) as err:
         if os.environ.get("UPPERPOSE_DEBUG"):
             raise
-        print(f"upperpose {args.command}: error: {err}", file=sys.stderr)
+        print(f"upperpose {args.command}: error: {one_line(err)}", file=sys.stderr)
         return 1
+    except Exception as err:  # a bug: still one line on the command line, the traceback on request
+        if os.environ.get("UPPERPOSE_DEBUG"):
+            raise
+        print(
+            f"upperpose {args.command}: internal error ({type(err).__name__}: {one_line(err)}); "
+            "rerun with UPPERPOSE_DEBUG=1 for the traceback and please report it",
+            file=sys.stderr,
+        )
+        return 1
+
+
+def one_line(err: BaseException) -> str:
+    """The error's message on one line (OpenCV's span several)."""
+    text = " ".join(str(err).split())
+    return text or type(err).__name__
 
 
 if __name__ == "__main__":

@@ -11,6 +11,8 @@ from pathlib import Path
 
 NAME = "track"
 OPTIMIZERS = ("apso", "pso", "simplex", "apsopf")
+# A focal length outside this range is a typo (a 640-pixel image at 1 px would see 175 degrees).
+MIN_FOCAL_PX, MAX_FOCAL_PX = 1.0, 1e5
 HELP = "track the upper body in a video: poses as JSON (SPEC 9), optionally CSV and an overlay video"
 
 
@@ -78,6 +80,12 @@ def tracker_config(args: argparse.Namespace):  # type: ignore[no-untyped-def]
     sigma = getattr(args, "sigma", None)
     if sigma is not None and not (math.isfinite(sigma) and sigma > 0):
         raise ValueError(f"--sigma must be a positive number, got {sigma}")
+    seed = getattr(args, "seed", None)
+    if seed is not None and not 0 <= seed < 2**64:
+        raise ValueError(f"--seed must be within 0..2**64-1, got {seed}")
+    focal = getattr(args, "focal", None)
+    if focal is not None and not (math.isfinite(focal) and MIN_FOCAL_PX <= focal <= MAX_FOCAL_PX):
+        raise ValueError(f"--focal must be within {MIN_FOCAL_PX:g}..{MAX_FOCAL_PX:g} pixels, got {focal}")
     path = getattr(args, "config", None)
     config = load_config(path) if path else TrackerConfig()
     given = {name: getattr(args, name, None) for name in ("particles", "iterations", "threads", "seed")}
@@ -91,6 +99,11 @@ def check_writable(*paths: str | None) -> None:
     """Fails early, before any work, when an output's folder is missing or not writable."""
     import os
 
+    given = [Path(p) for p in paths if p is not None]
+    for k, p in enumerate(given):
+        for q in given[k + 1 :]:
+            if p.resolve() == q.resolve():
+                raise OSError(f"two outputs name the same file: {p}")
     for path in paths:
         if path is None:
             continue

@@ -14,6 +14,9 @@ from upperpose.exceptions import InputError, VideoError
 
 Frame = npt.NDArray[np.uint8]
 DEFAULT_FPS = 30.0
+# Frame sides outside this range cannot hold a person the features can find, or exhaust memory.
+MIN_SIDE, MAX_SIDE = 32, 8192
+MAX_CAMERA_INDEX = 1023
 
 
 class VideoReader:
@@ -30,6 +33,10 @@ class VideoReader:
     """
 
     def __init__(self, source: str | os.PathLike[str] | int) -> None:
+        if isinstance(source, bool) or not isinstance(source, (int, str, os.PathLike)):
+            raise TypeError(f"video must be a path or a camera index, got {type(source).__name__}")
+        if isinstance(source, int) and not 0 <= source <= MAX_CAMERA_INDEX:
+            raise InputError(f"camera index must be within 0..{MAX_CAMERA_INDEX}, got {source}")
         self.name = f"camera {source}" if isinstance(source, int) else str(source)
         if not isinstance(source, int):
             path = Path(source)
@@ -49,6 +56,11 @@ class VideoReader:
             raise VideoError(f"{self.name} has no decodable frames (empty or corrupt video)")
         self._first: Frame | None = first
         self.height, self.width = int(first.shape[0]), int(first.shape[1])
+        if not (MIN_SIDE <= self.width <= MAX_SIDE and MIN_SIDE <= self.height <= MAX_SIDE):
+            self._cap.release()
+            raise VideoError(
+                f"{self.name} is {self.width}x{self.height}: upperpose takes {MIN_SIDE}..{MAX_SIDE} pixels a side"
+            )
         fps = float(self._cap.get(cv2.CAP_PROP_FPS) or 0.0)
         self.fps = fps if np.isfinite(fps) and 1.0 <= fps <= 1000.0 else DEFAULT_FPS
         count = int(self._cap.get(cv2.CAP_PROP_FRAME_COUNT) or 0)
