@@ -289,3 +289,76 @@ def test_frames_too_small_or_thin_are_refused(
 def test_bad_camera_index_is_refused_before_opening(source: object, error: str) -> None:
     with pytest.raises((ValueError, TypeError), match=error):
         VideoReader(source)  # type: ignore[arg-type]
+
+
+class FakeCamera:
+    """Behaves like cv2.VideoCapture on a camera index: frames of a clip, no frame count."""
+
+    def __init__(self, frames: list[np.ndarray] | None) -> None:
+        self.frames, self.at = frames, 0
+
+    def isOpened(self) -> bool:  # noqa: N802 - OpenCV's name
+        return self.frames is not None
+
+    def read(self) -> tuple[bool, np.ndarray | None]:
+        if self.frames is None or self.at >= len(self.frames):
+            return False, None
+        self.at += 1
+        return True, self.frames[self.at - 1]
+
+    def get(self, prop: int) -> float:
+        return 30.0 if prop == cv2.CAP_PROP_FPS else 0.0
+
+    def release(self) -> None:
+        pass
+
+
+def clip_frames(folder: Path) -> list[np.ndarray]:
+    reader = VideoReader(folder / "video.mp4")
+    frames = list(reader)
+    reader.close()
+    return frames
+
+
+@pytest.mark.parametrize("how", [["0"], ["--camera", "0"]])
+def test_live_camera_is_tracked(
+    tmp_path: Path,
+    capsys: pytest.CaptureFixture[str],
+    monkeypatch: pytest.MonkeyPatch,
+    fake_search: TruthFitter,
+    how: list[str],
+) -> None:
+    import upperpose.io.video as video_module
+
+    folder = clip()
+    frames = clip_frames(folder)
+    opened: list[object] = []
+
+    def capture(source: object) -> FakeCamera:
+        opened.append(source)
+        return FakeCamera(frames if source == 0 else None)
+
+    monkeypatch.setattr(video_module.cv2, "VideoCapture", capture)
+    out = tmp_path / "live.json"
+    code, _, err = track([*how, "--background", str(folder / "background.png"), "-o", str(out), "--quiet"], capsys)
+    assert code == 0, err
+    assert opened == [0]
+    doc = load_poses(out)
+    assert doc["source"] == "camera 0" and len(doc["frames"]) == len(frames)
+    assert any(f["status"] == "tracked" for f in doc["frames"])
+
+
+def test_missing_camera_and_live_source_without_plate_are_one_line(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import upperpose.io.video as video_module
+
+    frames = clip_frames(clip())
+    monkeypatch.setattr(video_module.cv2, "VideoCapture", lambda source: FakeCamera(None))
+    code, _, err = track(["3", "-o", str(tmp_path / "o.json")], capsys)
+    assert code == 1 and "no camera 3" in one_line_error(err)
+    monkeypatch.setattr(video_module.cv2, "VideoCapture", lambda source: FakeCamera(frames))
+    code, _, err = track(["--camera", "0", "-o", str(tmp_path / "o.json")], capsys)
+    assert code == 1 and "a live source needs --background" in one_line_error(err)
+    code, _, err = track(["-o", str(tmp_path / "o.json")], capsys)
+    assert code == 1 and "give either a VIDEO or --camera N" in one_line_error(err)

@@ -55,7 +55,12 @@ def add_search_arguments(p: argparse.ArgumentParser) -> None:
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
     """Options of the subcommand."""
-    p.add_argument("video", help="video file to track")
+    p.add_argument(
+        "video",
+        nargs="?",
+        help="video file to track, a stream URL (rtsp://, http://) or a camera index (0 is the first camera)",
+    )
+    p.add_argument("--camera", type=int, metavar="N", help="track live from camera N (the same as VIDEO=N)")
     p.add_argument("--background", metavar="IMAGE", help="clean plate: a photo of the empty scene (recommended)")
     p.add_argument("--focal", type=float, metavar="PX", help="focal length in pixels (default: the image width)")
     p.add_argument("-o", "--output", required=True, metavar="OUT.json", help="pose file to write (SPEC 9)")
@@ -156,19 +161,25 @@ def run(args: argparse.Namespace) -> int:
     from upperpose.io.overlay import OverlayWriter, draw_overlay
     from upperpose.result import LOST, NO_PERSON, TRACKED
 
+    from upperpose.io.video import parse_source
+
+    if (args.video is None) == (args.camera is None):
+        raise ValueError("give either a VIDEO or --camera N")
+    source = args.camera if args.camera is not None else parse_source(args.video)
+    name = f"camera {source}" if isinstance(source, int) else str(source)
     check_writable(args.output, args.csv, args.overlay)
     config = tracker_config(args)
     started = time.perf_counter()
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", CleanPlateWarning)
-        run_ = VideoTracking(args.video, args.background, focal=args.focal, config=config)
+        run_ = VideoTracking(source, args.background, focal=args.focal, config=config)
     if caught and not args.quiet:
         print(f"upperpose track: warning: {caught[0].message}", file=sys.stderr)
     recorder = PoseRecorder(
         run_.reader.width,
         run_.reader.height,
         run_.fps,
-        source=Path(args.video).name,
+        source=f"camera {source}" if isinstance(source, int) else Path(str(source)).name,
         seed=run_.tracker.search_config.seed,
         clean_plate=run_.clean_plate,
         settings=config_to_dict(config),
@@ -202,12 +213,12 @@ def run(args: argparse.Namespace) -> int:
     frames = recorder.frames
     if frames == 0 or recorder.count(NO_PERSON) == frames:
         raise UpperposeError(
-            f"no person found in {args.video} ({frames} frames): start-up needs a frontal face and the "
+            f"no person found in {name} ({frames} frames): start-up needs a frontal face and the "
             f"A-pose (arms straight, 30-40 degrees out); wrote an all-'no_person' {args.output}"
         )
     if recorder.count(TRACKED, LOST) == 0:
         raise UpperposeError(
-            f"tracking never started in {args.video} ({frames} frames): a face was seen but start-up needs "
+            f"tracking never started in {name} ({frames} frames): a face was seen but start-up needs "
             f"the A-pose (arms straight, 30-40 degrees out) for {config.confirm_frames} frames in a row; "
             f"wrote {args.output} without a pose"
         )
@@ -216,7 +227,7 @@ def run(args: argparse.Namespace) -> int:
         first = next(r["frame"] for r in recorder.records if r["status"] in (TRACKED, LOST))
         after = frames - first
         print(
-            f"Tracked {args.video}: {frames} frames in {run_time:.1f} s ({frames / run_time:.1f} fps); "
+            f"Tracked {name}: {frames} frames in {run_time:.1f} s ({frames / run_time:.1f} fps); "
             f"start-up took {first} frames; of the {after} frames after it {tracked} were tracked "
             f"({100 * tracked / max(after, 1):.1f} %) and {lost} lost; "
             f"background from {'the clean plate' if run_.clean_plate else 'the video (estimated)'}; "

@@ -17,7 +17,7 @@ import numpy.typing as npt
 from upperpose.exceptions import InputError
 from upperpose.features import Background, FeatureConfig, background_from_video
 from upperpose.fit.tracker import Fitter, Tracker, TrackerConfig, TrackResult
-from upperpose.io.video import Frame, VideoReader, read_background
+from upperpose.io.video import Frame, VideoReader, is_stream_url, read_background
 from upperpose.model import BodyModel, Camera
 
 BackgroundLike = Background | npt.NDArray[np.uint8] | str | os.PathLike[str] | None
@@ -41,8 +41,8 @@ def load_background(
     """
     config = config or FeatureConfig()
     if background is None:
-        if isinstance(video, int):
-            raise InputError("a live camera needs a background image (a photo of the empty scene)")
+        if isinstance(video, int) or is_stream_url(video):
+            raise InputError("a live source needs --background (a photo of the empty scene from the same camera)")
         return background_from_video(video, config), False
     if isinstance(background, Background):
         plate_size = background.size

@@ -26,7 +26,8 @@ class VideoReader:
     is decoded on opening, so that an empty or undecodable file fails at once with a message.
 
     Args:
-        source: a path to a video file, or an integer camera index.
+        source: a path to a video file, a stream URL OpenCV opens (rtsp://, http://), or an
+            integer camera index.
 
     Raises:
         VideoError: the file is missing, is a folder, cannot be decoded, or holds no frames.
@@ -38,7 +39,8 @@ class VideoReader:
         if isinstance(source, int) and not 0 <= source <= MAX_CAMERA_INDEX:
             raise InputError(f"camera index must be within 0..{MAX_CAMERA_INDEX}, got {source}")
         self.name = f"camera {source}" if isinstance(source, int) else str(source)
-        if not isinstance(source, int):
+        self.live = isinstance(source, int) or is_stream_url(source)
+        if not self.live:
             path = Path(source)
             if not path.exists():
                 raise VideoError(f"no such video: {path}")
@@ -49,6 +51,10 @@ class VideoReader:
         self._cap = cv2.VideoCapture(source if isinstance(source, int) else str(source))
         if not self._cap.isOpened():
             self._cap.release()
+            if isinstance(source, int):
+                raise VideoError(f"no camera {source}: none is connected at that index, or it is in use")
+            if self.live:
+                raise VideoError(f"cannot open the stream {self.name}: unreachable, or a protocol OpenCV lacks")
             raise VideoError(f"cannot read {self.name}: not a video OpenCV can decode (missing codec or corrupt file)")
         ok, first = self._cap.read()
         if not ok or first is None or first.ndim != 3 or first.shape[2] != 3:
@@ -88,6 +94,16 @@ class VideoReader:
         self.close()
 
 
+def is_stream_url(source: str | os.PathLike[str]) -> bool:
+    """Whether `source` names a network stream (rtsp://, http://, ...) rather than a file."""
+    return isinstance(source, str) and "://" in source and not Path(source).exists()
+
+
+def parse_source(text: str) -> str | int:
+    """A command-line video argument: a camera index for a bare number that is not a file."""
+    return int(text) if text.isdigit() and not Path(text).exists() else text
+
+
 def read_background(path: str | os.PathLike[str], size: tuple[int, int]) -> Frame:
     """Reads a clean-plate image and checks it matches the video's `(height, width)`.
 
@@ -109,4 +125,4 @@ def read_background(path: str | os.PathLike[str], size: tuple[int, int]) -> Fram
     return np.ascontiguousarray(image, dtype=np.uint8)
 
 
-__all__ = ["DEFAULT_FPS", "Frame", "VideoReader", "read_background"]
+__all__ = ["DEFAULT_FPS", "Frame", "VideoReader", "is_stream_url", "parse_source", "read_background"]

@@ -1,0 +1,35 @@
+"""The face detector looks at full size when the downscaled frame shows no face."""
+
+from __future__ import annotations
+
+import cv2
+import numpy as np
+import pytest
+
+from upperpose.features.faces import FaceDetector
+
+skimage_data = pytest.importorskip("skimage.data")
+
+
+def small_face_scene(face_px: int) -> np.ndarray:
+    """A grey 640x480 frame with the astronaut's face (from scikit-image) about face_px wide."""
+    photo = cv2.cvtColor(skimage_data.astronaut(), cv2.COLOR_RGB2BGR)
+    x, y, w, h = FaceDetector()(photo)[0]
+    crop = photo[max(0, y - w // 2) : y + h + w // 2, max(0, x - w // 2) : x + w + w // 2]
+    small = cv2.resize(crop, None, fx=face_px / w, fy=face_px / w, interpolation=cv2.INTER_AREA)
+    frame = np.full((480, 640, 3), 128, np.uint8)
+    frame[200 : 200 + small.shape[0], 300 : 300 + small.shape[1]] = small
+    return frame
+
+
+def test_a_face_the_downscaled_pass_misses_is_found_at_full_size() -> None:
+    frame = small_face_scene(60)
+    detector = FaceDetector()
+    grey = cv2.cvtColor(frame, cv2.COLOR_BGR2GRAY)
+    assert detector._detect(grey, 640 / 427) == []
+    (x, y, w, h), *_ = detector(frame)
+    assert 300 <= x and x + w <= 300 + 2 * 60 and 200 <= y and abs(w - 60) <= 12
+
+
+def test_an_empty_frame_has_no_face_at_any_scale() -> None:
+    assert FaceDetector()(np.full((480, 640, 3), 128, np.uint8)) == []
