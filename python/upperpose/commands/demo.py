@@ -10,7 +10,7 @@ import argparse
 import time
 from pathlib import Path
 
-from upperpose.commands.track import add_search_arguments
+from upperpose.commands.track import add_search_arguments, add_smoothing_argument
 
 NAME = "demo"
 HELP = "make a short synthetic clip, track it, write poses, overlay video and contact sheet, print the accuracy"
@@ -22,19 +22,23 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--motion", default="wave_right", help="motion of the synthetic clip (default: wave_right)")
     p.add_argument("--frames", type=int, default=150, help="length of the clip in frames (default 150)")
     add_search_arguments(p)
+    add_smoothing_argument(p)
 
 
 def run(args: argparse.Namespace) -> int:
     """Synthesises, tracks, draws and scores."""
-    from upperpose.commands.track import check_writable, tracker_config
+    from upperpose.commands.track import check_writable, smoothing_of, tracker_config
     from upperpose.fit.pipeline import VideoTracking
+    from upperpose.fit.smoothing import PoseSmoother
     from upperpose.io.files import write_image
     from upperpose.io.output import PoseRecorder
     from upperpose.io.overlay import OverlayWriter, contact_sheet, draw_overlay
     from upperpose.io.posefile import load_poses
+    from upperpose.io.video import Frame
     from upperpose.lab.evaluate import evaluate, format_table
     from upperpose.lab.synth import ClipConfig, load_meta, write_clip
     from upperpose.model import Camera
+    from upperpose.result import TrackResult
 
     if not 30 <= args.frames <= 3000:
         raise ValueError(f"--frames must be within 30..3000, got {args.frames}")
@@ -59,13 +63,23 @@ def run(args: argparse.Namespace) -> int:
     total = run_.reader.frame_count or args.frames
     picks = {round(i * (total - 1) / 7) for i in range(8)}
     tiles = []
+    lag, smoothing = smoothing_of(args)
+    recorder.extra["smoothing"] = smoothing
+    smoother: PoseSmoother[Frame] = PoseSmoother(camera, lag)
+
+    def take(result: TrackResult, frame: Frame) -> None:
+        recorder.add(result)
+        drawn = draw_overlay(frame, result, camera, run_.tracker.body)
+        overlay.write(drawn)
+        if result.frame in picks:
+            tiles.append(drawn)
+
     try:
         for frame, result in run_.frames():
-            recorder.add(result)
-            drawn = draw_overlay(frame, result, camera, run_.tracker.body)
-            overlay.write(drawn)
-            if result.frame in picks:
-                tiles.append(drawn)
+            for done, shown in smoother.push(result, run_.tracker.body, frame):
+                take(done, shown)
+        for done, shown in smoother.flush():
+            take(done, shown)
     finally:
         run_.close()
         overlay.close()

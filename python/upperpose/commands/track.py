@@ -68,7 +68,27 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--overlay", metavar="OUT.mp4", help="also write the video with the fitted model drawn over it")
     add_search_arguments(p)
     p.add_argument("--no-skip", action="store_true", help="search every part every frame (ignore the motion flags)")
+    add_smoothing_argument(p)
     p.add_argument("--quiet", action="store_true", help="no progress bar or summary")
+
+
+def add_smoothing_argument(p: argparse.ArgumentParser) -> None:
+    """--no-smooth, shared by track and demo."""
+    p.add_argument(
+        "--no-smooth",
+        action="store_true",
+        help="write the poses as fitted (default: smoothed in angle space without lag, each frame's "
+        "pose known 3 frames later; docs/guide.md)",
+    )
+
+
+def smoothing_of(args: argparse.Namespace) -> tuple[int, dict[str, object] | None]:
+    """The smoother's lag and the pose file's description of it."""
+    from upperpose.fit.smoothing import DEFAULT_LAG
+
+    if getattr(args, "no_smooth", False):
+        return 0, None
+    return DEFAULT_LAG, {"method": "savitzky-golay, quadratic, centred, in angle space", "lag_frames": DEFAULT_LAG}
 
 
 def tracker_config(args: argparse.Namespace):  # type: ignore[no-untyped-def]
@@ -157,11 +177,11 @@ def run(args: argparse.Namespace) -> int:
     from upperpose.features import CleanPlateWarning
     from upperpose.fit.pipeline import VideoTracking
     from upperpose.fit.settings import config_to_dict
+    from upperpose.fit.smoothing import PoseSmoother
     from upperpose.io.output import PoseRecorder
     from upperpose.io.overlay import OverlayWriter, draw_overlay
-    from upperpose.result import LOST, NO_PERSON, TRACKED
-
-    from upperpose.io.video import parse_source
+    from upperpose.io.video import Frame, parse_source
+    from upperpose.result import LOST, NO_PERSON, TRACKED, TrackResult
 
     if (args.video is None) == (args.camera is None):
         raise ValueError("give either a VIDEO or --camera N")
@@ -169,6 +189,7 @@ def run(args: argparse.Namespace) -> int:
     name = f"camera {source}" if isinstance(source, int) else str(source)
     check_writable(args.output, args.csv, args.overlay)
     config = tracker_config(args)
+    lag, smoothing = smoothing_of(args)
     started = time.perf_counter()
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", CleanPlateWarning)
@@ -183,19 +204,28 @@ def run(args: argparse.Namespace) -> int:
         seed=run_.tracker.search_config.seed,
         clean_plate=run_.clean_plate,
         settings=config_to_dict(config),
+        smoothing=smoothing,
     )
     overlay = OverlayWriter(args.overlay, run_.reader.width, run_.reader.height, run_.fps) if args.overlay else None
     progress = Progress(run_.reader.frame_count, not args.quiet)
+    smoother: PoseSmoother[Frame | None] = PoseSmoother(run_.camera, lag)
+
+    def take(result: TrackResult, frame: Frame | None) -> None:
+        recorder.add(result)
+        if overlay is not None and frame is not None:
+            overlay.write(draw_overlay(frame, result, run_.camera, run_.tracker.body))
+        progress.update(recorder.frames, result.status)
+
     interrupted = False
     try:
         for frame, result in run_.frames():
-            recorder.add(result)
-            if overlay is not None:
-                overlay.write(draw_overlay(frame, result, run_.camera, run_.tracker.body))
-            progress.update(recorder.frames, result.status)
+            for done, shown in smoother.push(result, run_.tracker.body, frame if overlay is not None else None):
+                take(done, shown)
     except KeyboardInterrupt:
         interrupted = True
     finally:
+        for done, shown in smoother.flush():
+            take(done, shown)
         progress.finish()
         run_.close()
         run_time = time.perf_counter() - started

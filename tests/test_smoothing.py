@@ -1,0 +1,100 @@
+"""The fixed-lag angle smoother: exact on quadratics, no lag, runs kept apart, every frame once."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from upperpose.fit.smoothing import PoseSmoother, centre_weights
+from upperpose.model import BodyModel, Camera, Pose, forward_kinematics, project
+from upperpose.result import NO_PERSON, TRACKED, TrackResult
+
+CAMERA = Camera.for_image(640, 480)
+BODY = BodyModel()
+ROOT = np.array([0.0, 0.1, 2.2])
+
+
+def result(i: int, pose: np.ndarray | None, root: np.ndarray = ROOT) -> TrackResult:
+    if pose is None:
+        return TrackResult(i, NO_PERSON)
+    j3 = forward_kinematics(pose, root, BODY)
+    return TrackResult(i, TRACKED, pose=pose, root=root, joints_3d=j3, joints_2d=project(CAMERA, j3), cost=1.0)
+
+
+def run(smoother: PoseSmoother[int], results: list[TrackResult]) -> list[tuple[TrackResult, int]]:
+    out = []
+    for r in results:
+        out += list(smoother.push(r, BODY, r.frame))
+    return out + list(smoother.flush())
+
+
+@pytest.mark.parametrize("half", range(0, 8))
+def test_weights_sum_to_one_and_keep_quadratics(half: int) -> None:
+    w = centre_weights(half)
+    assert len(w) == 2 * half + 1 and w.sum() == pytest.approx(1.0)
+    k = np.arange(-half, half + 1, dtype=float)
+    assert w @ (3.0 + 2.0 * k) == pytest.approx(3.0)  # a line: every half
+    if half >= 2:
+        assert w @ (3.0 + 2.0 * k - 0.7 * k * k) == pytest.approx(3.0)
+
+
+def test_quadratic_motion_passes_unchanged() -> None:
+    base = Pose.a_pose().angles
+    t = np.arange(40, dtype=float)
+    poses = [base + 0.002 * ti - 0.0001 * ti * ti for ti in t]
+    roots = [ROOT + [0.001 * ti, 0.0, 0.0005 * ti * ti / 40] for ti in t]
+    out = run(PoseSmoother(CAMERA, 3), [result(i, p, r) for i, (p, r) in enumerate(zip(poses, roots))])
+    assert [r.frame for r, _ in out] == list(range(40))
+    for (r, payload), p, root in zip(out, poses, roots):
+        assert payload == r.frame
+        if r.frame in (1, 38):  # one frame from a run's end: the mean of three, off by the curvature
+            np.testing.assert_allclose(r.pose, p, atol=0.0001 * 2 / 3 + 1e-12)
+            continue
+        np.testing.assert_allclose(r.pose, p, atol=1e-12)
+        np.testing.assert_allclose(r.root, root, atol=1e-12)
+        np.testing.assert_allclose(r.joints_3d, forward_kinematics(p, root, BODY), atol=1e-9)
+        np.testing.assert_allclose(r.joints_2d, project(CAMERA, forward_kinematics(p, root, BODY)), atol=1e-6)
+
+
+def test_jitter_is_reduced_without_moving_the_mean() -> None:
+    rng = np.random.default_rng(3)
+    base = Pose.a_pose().angles
+    noisy = [base + rng.normal(0, 0.02, 13) for _ in range(200)]
+    out = run(PoseSmoother(CAMERA, 3), [result(i, p) for i, p in enumerate(noisy)])
+    raw = np.array(noisy)
+    smooth = np.array([r.pose for r, _ in out])
+    assert np.diff(smooth, 2, axis=0).std() < 0.5 * np.diff(raw, 2, axis=0).std()
+    np.testing.assert_allclose(smooth.mean(axis=0), raw.mean(axis=0), atol=2e-3)
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    gaps=st.lists(st.booleans(), min_size=1, max_size=40),
+    lag=st.integers(0, 5),
+)
+def test_every_frame_once_in_order_and_runs_never_mix(gaps: list[bool], lag: int) -> None:
+    # Each run of poses has its own constant angles: smoothing must give back exactly those.
+    results, value, previous = [], 0.0, False
+    for i, posed in enumerate(gaps):
+        if posed and not previous:
+            value += 0.05
+        results.append(result(i, Pose.a_pose().angles + value if posed else None))
+        previous = posed
+    out = run(PoseSmoother(CAMERA, lag), results)
+    assert [r.frame for r, _ in out] == list(range(len(gaps)))
+    for (r, _), given_result in zip(out, results):
+        assert r.status == given_result.status
+        if given_result.pose is None:
+            assert r.pose is None
+        else:
+            np.testing.assert_allclose(r.pose, given_result.pose, atol=1e-12)
+
+
+def test_lag_zero_passes_results_through_and_bad_lags_are_refused() -> None:
+    results = [result(i, Pose.a_pose().angles + 0.01 * i * i) for i in range(6)]
+    out = run(PoseSmoother(CAMERA, 0), results)
+    assert [r for r, _ in out] == results
+    with pytest.raises(ValueError, match="smoothing lag must be an integer within 0..30"):
+        PoseSmoother(CAMERA, -1)
