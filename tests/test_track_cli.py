@@ -362,3 +362,39 @@ def test_missing_camera_and_live_source_without_plate_are_one_line(
     assert code == 1 and "a live source needs --background" in one_line_error(err)
     code, _, err = track(["-o", str(tmp_path / "o.json")], capsys)
     assert code == 1 and "give either a VIDEO or --camera N" in one_line_error(err)
+
+
+def test_sigterm_and_a_second_interrupt_while_writing_keep_a_whole_file(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], fake_search: TruthFitter, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import os
+    import signal
+
+    import upperpose.io.output as output_module
+
+    original = VideoReader.__iter__
+
+    def terminated(self: VideoReader):  # type: ignore[no-untyped-def]
+        for i, frame in enumerate(original(self)):
+            if i == 20:
+                os.kill(os.getpid(), signal.SIGTERM)  # as a job scheduler would
+            yield frame
+
+    write = output_module.write_poses
+
+    def impatient(path, data):  # type: ignore[no-untyped-def]
+        os.kill(os.getpid(), signal.SIGINT)  # Ctrl-C again while the file is being written
+        return write(path, data)
+
+    monkeypatch.setattr(VideoReader, "__iter__", terminated)
+    monkeypatch.setattr(output_module, "write_poses", impatient)
+    out = tmp_path / "poses.json"
+    folder = clip()
+    code, _, err = track(
+        [str(folder / "video.mp4"), "--background", str(folder / "background.png"), "-o", str(out)], capsys
+    )
+    assert code == 130 and "interrupted" in err and "Traceback" not in err
+    frames = [f["frame"] for f in load_poses(out)["frames"]]
+    assert frames == list(range(len(frames))) and 20 <= len(frames) <= 22
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["poses.json"]
+    assert signal.getsignal(signal.SIGTERM) is signal.SIG_DFL

@@ -178,6 +178,7 @@ def run(args: argparse.Namespace) -> int:
     from upperpose.fit.pipeline import VideoTracking
     from upperpose.fit.settings import config_to_dict
     from upperpose.fit.smoothing import PoseSmoother
+    from upperpose.io.files import interrupts_held
     from upperpose.io.output import PoseRecorder
     from upperpose.io.overlay import OverlayWriter, draw_overlay
     from upperpose.io.video import Frame, parse_source
@@ -224,18 +225,20 @@ def run(args: argparse.Namespace) -> int:
     except KeyboardInterrupt:
         interrupted = True
     finally:
-        for done, shown in smoother.flush():
-            take(done, shown)
-        progress.finish()
-        run_.close()
-        run_time = time.perf_counter() - started
-        written = [recorder.write_json(args.output, run_time)]
-        if args.csv:
-            written.append(recorder.write_csv(args.csv))
-        if overlay is not None:
-            kept = overlay.close()
-            if kept:
-                written.append(kept)
+        # A second Ctrl-C or a SIGTERM while the outputs are written waits until they are whole.
+        with interrupts_held():
+            for done, shown in smoother.flush():
+                take(done, shown)
+            progress.finish()
+            run_.close()
+            run_time = time.perf_counter() - started
+            written = [recorder.write_json(args.output, run_time)]
+            if args.csv:
+                written.append(recorder.write_csv(args.csv))
+            if overlay is not None:
+                kept = overlay.close()
+                if kept:
+                    written.append(kept)
     names = ", ".join(str(p) for p in written)
     if interrupted:
         print(f"upperpose track: interrupted after {recorder.frames} frames; wrote them to {names}", file=sys.stderr)
