@@ -8,6 +8,7 @@ test: lint test-rust test-py
 lint: fmt-check
 	cargo clippy --locked --workspace --all-targets -- -D warnings
 	$(PYTHON) -m ruff check python tests
+	$(PYTHON) -m mypy python/upperpose
 	$(PYTHON) -m mypy.stubtest upperpose._upperpose
 
 fmt-check:

@@ -1,6 +1,6 @@
 """Type stubs for the Rust extension `upperpose._upperpose` (hand-written; see STYLE.md)."""
 
-from typing import Literal, final
+from typing import Literal, TypedDict, final
 
 import numpy as np
 import numpy.typing as npt
@@ -31,6 +31,28 @@ __version__: str
 ANGLE_NAMES: list[str]
 JOINT_NAMES: list[str]
 PART_NAMES: list[str]
+
+_Limits = Literal["anatomical", "thesis"]
+_Optimizer = Literal["apso", "pso", "simplex", "apsopf"]
+_Mode = Literal["trajectory", "initial"]
+
+class _BodyDims(TypedDict):
+    """`BodyModel.as_dict()`: every dimension, the keyword arguments of `BodyModel`."""
+
+    shoulder_width: float
+    shoulder_height: float
+    head_offset: float
+    head_radii: list[float]
+    neck_length: float
+    neck_radius: float
+    torso_top: float
+    torso_bottom: float
+    torso_half_width: float
+    torso_half_depth: float
+    upper_arm_length: float
+    upper_arm_radii: list[float]
+    lower_arm_length: float
+    lower_arm_radii: list[float]
 
 class UpperposeError(Exception): ...
 class InputError(UpperposeError, ValueError): ...
@@ -84,7 +106,7 @@ class BodyModel:
     def lower_arm_length(self) -> float: ...
     @property
     def lower_arm_radii(self) -> list[float]: ...
-    def as_dict(self) -> dict[str, float | list[float]]: ...
+    def as_dict(self) -> _BodyDims: ...
     def __eq__(self, value: object, /) -> bool: ...
 
 @final
@@ -120,7 +142,7 @@ def solids(
     pose: npt.NDArray[np.float64], root: npt.NDArray[np.float64], body: BodyModel
 ) -> list[dict[str, object]]: ...
 def penetrates(pose: npt.NDArray[np.float64], root: npt.NDArray[np.float64], body: BodyModel) -> bool: ...
-def joint_limits(preset: str = "anatomical") -> list[list[tuple[float, float]]]: ...
+def joint_limits(preset: _Limits = "anatomical") -> list[list[tuple[float, float]]]: ...
 def render_masks(
     pose: npt.NDArray[np.float64],
     root: npt.NDArray[np.float64],
@@ -142,14 +164,14 @@ class SearchConfig:
         annealing: bool | None = None,
         max_speed: float | None = None,
         weights: dict[str, float] | None = None,
-        limits: str = "anatomical",
+        limits: _Limits = "anatomical",
         non_penetration: bool = True,
         threads: int | None = None,
         seed: int = 0,
         root_window: float | None = None,
         initial_root_window: float | None = None,
         row_steps: tuple[int, int, int] | None = None,
-        optimizer: str = "apso",
+        optimizer: _Optimizer = "apso",
         sigma: float | None = None,
         behind_weight: float | None = None,
         behind_margin: float | None = None,
@@ -170,7 +192,7 @@ class SearchConfig:
     @property
     def max_speed(self) -> float: ...
     @property
-    def limits(self) -> str: ...
+    def limits(self) -> _Limits: ...
     @property
     def non_penetration(self) -> bool: ...
     @property
@@ -198,7 +220,7 @@ class SearchConfig:
     @property
     def row_steps(self) -> tuple[int, int, int]: ...
     @property
-    def optimizer(self) -> str: ...
+    def optimizer(self) -> _Optimizer: ...
     @property
     def sigma(self) -> float: ...
     @property
@@ -233,7 +255,7 @@ def fit_frame_bits(
     root: npt.NDArray[np.float64],
     body: BodyModel,
     camera: Camera,
-    mode: str,
+    mode: _Mode,
     window_scale: float,
     frame_interval: float,
     search: list[str],

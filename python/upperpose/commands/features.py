@@ -6,6 +6,7 @@ import argparse
 import json
 import warnings
 from pathlib import Path
+from typing import cast
 
 import cv2
 import numpy as np
@@ -75,7 +76,7 @@ def read_frames(path: str, index: int) -> tuple[npt.NDArray[np.uint8] | None, np
                 previous = frame
     finally:
         capture.release()
-    return previous, frame
+    return cast("npt.NDArray[np.uint8] | None", previous), cast(npt.NDArray[np.uint8], frame)
 
 
 def predicted_joints(path: str, index: int) -> npt.NDArray[np.float64] | None:
@@ -98,7 +99,7 @@ def run(args: argparse.Namespace) -> int:
         plate = cv2.imread(args.background, cv2.IMREAD_COLOR)
         if plate is None:
             raise VideoError(f"cannot read background image {args.background}")
-        background = Background.from_plate(plate, config)
+        background = Background.from_plate(cast(npt.NDArray[np.uint8], plate), config)
     else:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always", CleanPlateWarning)

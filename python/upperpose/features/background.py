@@ -17,6 +17,7 @@ import os
 import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from typing import cast
 
 import cv2
 import numpy as np
@@ -45,12 +46,14 @@ def square(size: int) -> npt.NDArray[np.uint8] | None:
 def grey_for_edges(frame: Frame, blur: int) -> npt.NDArray[np.uint8]:
     """The grey image the edge feature differentiates: BGR to grey, then an optional blur."""
     grey = cv2.cvtColor(frame, cv2.COLOR_BGR2GRAY)
-    return cv2.GaussianBlur(grey, (blur, blur), 0) if blur >= 2 else grey
+    return cast(npt.NDArray[np.uint8], cv2.GaussianBlur(grey, (blur, blur), 0) if blur >= 2 else grey)
 
 
 def sobel_pair(grey: npt.NDArray[np.uint8]) -> tuple[Int16Image, Int16Image]:
     """3x3 Sobel derivatives in x and y as int16 images."""
-    return cv2.Sobel(grey, cv2.CV_16S, 1, 0, ksize=3), cv2.Sobel(grey, cv2.CV_16S, 0, 1, ksize=3)
+    return cast(Int16Image, cv2.Sobel(grey, cv2.CV_16S, 1, 0, ksize=3)), cast(
+        Int16Image, cv2.Sobel(grey, cv2.CV_16S, 0, 1, ksize=3)
+    )
 
 
 @dataclass(frozen=True)
@@ -107,7 +110,7 @@ class Background:
         skin = skin_mask(plate, config)
         kernel = square(config.background_skin_dilate)
         if kernel is not None:
-            skin = cv2.dilate(skin, kernel)
+            skin = cast(Mask, cv2.dilate(skin, kernel))
         for image in (plate, dx, dy, skin):
             image.setflags(write=False)
         return cls(plate, dx, dy, skin, config, estimated, method)
@@ -171,10 +174,10 @@ def person_still_there(
 
 def fill_unseen(plate: Frame, foreground: npt.NDArray[np.bool_], config: FeatureConfig) -> Frame:
     """`plate` with the pixels that are foreground in every sample inpainted from around them."""
-    unseen = foreground.all(axis=0).astype(np.uint8)
+    unseen = cast(Mask, foreground.all(axis=0).astype(np.uint8))
     if not unseen.any():
         return plate
-    return cv2.inpaint(plate, unseen, config.bg_inpaint_radius, cv2.INPAINT_TELEA)
+    return cast(Frame, cv2.inpaint(plate, unseen, config.bg_inpaint_radius, cv2.INPAINT_TELEA))
 
 
 def iterative_masked_median(samples: Sequence[Frame], config: FeatureConfig) -> tuple[Frame, bool]:
@@ -270,9 +273,9 @@ def sample_video(path: str | os.PathLike[str], config: FeatureConfig) -> tuple[l
             if not ok:
                 break
             if index < lead_count:
-                lead.append(frame)
+                lead.append(cast(Frame, frame))
             if index % step == 0:
-                samples.append(frame)
+                samples.append(cast(Frame, frame))
             index += 1
     finally:
         capture.release()

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import cast
 
 import cv2
 import numpy as np
@@ -98,7 +99,7 @@ def find_skin_blobs(skin: Mask, edge: Mask, config: FeatureConfig, sub: Mask | N
             continue
         region = np.zeros((h, w), np.uint8)
         cv2.drawContours(region, [contour], 0, 255, -1, offset=(-x, -y))
-        pixels = cv2.bitwise_and(region, skin[y : y + h, x : x + w])
+        pixels = cast(Mask, cv2.bitwise_and(region, skin[y : y + h, x : x + w]))
         area = cv2.countNonZero(pixels)
         if area < config.blob_min_area:
             continue
@@ -108,7 +109,7 @@ def find_skin_blobs(skin: Mask, edge: Mask, config: FeatureConfig, sub: Mask | N
             sub is not None and stands_out_in_colour(pixels, (x, y), sub, config)
         ):
             continue
-        blobs.append(blob_from_pixels(pixels, (x, y), gradient, contour))
+        blobs.append(blob_from_pixels(pixels, (x, y), gradient, cast(npt.NDArray[np.int32], contour)))
     blobs.sort(key=lambda b: -b.area)
     return blobs
 
@@ -127,10 +128,12 @@ def blob_from_pixels(
     x, y = origin
     if contour is None:
         contours, _ = cv2.findContours(pixels, cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_SIMPLE, offset=(x, y))
-        contour = max(contours, key=cv2.contourArea)
+        contour = cast(npt.NDArray[np.int32], max(contours, key=cv2.contourArea))
     ys, xs = np.nonzero(pixels)
     xs = (xs + x).astype(np.int32)
     ys = (ys + y).astype(np.int32)
     centroid = (float(xs.mean()), float(ys.mean()))
-    bbox = cv2.boundingRect(contour)
-    return SkinBlob(len(xs), centroid, bbox, gradient, xs, ys, contour)
+    bbox = cast(tuple[int, int, int, int], cv2.boundingRect(contour))
+    return SkinBlob(
+        len(xs), centroid, bbox, gradient, cast(npt.NDArray[np.int32], xs), cast(npt.NDArray[np.int32], ys), contour
+    )

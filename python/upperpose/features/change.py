@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from typing import cast
+
 import cv2
 import numpy as np
 
@@ -36,9 +38,12 @@ def colour_change(
     else:
         diff, over, grey = work
     cv2.absdiff(a, b, dst=diff)
-    cv2.compare(diff, threshold, cv2.CMP_GT, dst=over)
+    cv2.compare(diff, threshold, cv2.CMP_GT, dst=over)  # type: ignore[call-overload]
     cv2.cvtColor(over, cv2.COLOR_BGR2GRAY, dst=grey)  # nonzero iff some channel is 255
-    return cv2.compare(grey, 0, cv2.CMP_GT, dst=out) if out is not None else cv2.compare(grey, 0, cv2.CMP_GT)
+    return cast(
+        Mask,
+        cv2.compare(grey, 0, cv2.CMP_GT, dst=out) if out is not None else cv2.compare(grey, 0, cv2.CMP_GT),  # type: ignore[call-overload]
+    )
 
 
 def plate_distance(frame: Frame, plate: Frame, diff: Frame, out: Mask) -> Mask:
@@ -51,7 +56,7 @@ def plate_distance(frame: Frame, plate: Frame, diff: Frame, out: Mask) -> Mask:
         out: `(H, W)` uint8 result.
     """
     cv2.absdiff(frame, plate, dst=diff)
-    return cv2.cvtColor(diff, cv2.COLOR_BGR2GRAY, dst=out)
+    return cast(Mask, cv2.cvtColor(diff, cv2.COLOR_BGR2GRAY, dst=out))
 
 
 __all__ = ["colour_change", "plate_distance"]

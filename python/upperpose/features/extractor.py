@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import time
+from typing import cast
 
 import cv2
 import numpy as np
@@ -167,7 +168,7 @@ class FeatureExtractor:
             # The room in the person's skin colour, as `Background.skin` is in the generic rule's.
             room = self.person_skin.mask(self.background.plate, room=True)
             if cfg.background_skin_dilate > 1:
-                room = cv2.dilate(room, square(cfg.background_skin_dilate))
+                room = cast(Mask, cv2.dilate(room, cast(npt.NDArray[np.uint8], square(cfg.background_skin_dilate))))
             self._not_background_skin = cv2.bitwise_not(cv2.bitwise_or(room, self.background.skin))
         return self.person_skin
 
@@ -249,13 +250,13 @@ class FeatureExtractor:
         gains = self._exposure.gains(frame)
         if not needs_compensation(gains, self.config.exposure_tolerance):
             return bg.plate, bg.dx, bg.dy, frame
-        cv2.multiply(bg.plate, (*(float(g) for g in gains), 1.0), dst=work.plate, dtype=cv2.CV_8U)
+        cv2.multiply(bg.plate, (*(float(g) for g in gains), 1.0), dst=work.plate, dtype=cv2.CV_8U)  # type: ignore[call-overload]
         # The skin rule's bounds are absolute (R - G, Cr, Cb shrink with the light): a dimmed
         # hand falls out of them while the plate-lit colours stay inside.
-        cv2.multiply(frame, (*(1.0 / max(float(g), 0.05) for g in gains), 1.0), dst=work.relit, dtype=cv2.CV_8U)
+        cv2.multiply(frame, (*(1.0 / max(float(g), 0.05) for g in gains), 1.0), dst=work.relit, dtype=cv2.CV_8U)  # type: ignore[call-overload]
         grey_gain = float(gains @ GREY_WEIGHTS)
-        cv2.multiply(bg.dx, grey_gain, dst=work.plate_dx, dtype=cv2.CV_16S)
-        cv2.multiply(bg.dy, grey_gain, dst=work.plate_dy, dtype=cv2.CV_16S)
+        cv2.multiply(bg.dx, grey_gain, dst=work.plate_dx, dtype=cv2.CV_16S)  # type: ignore[call-overload]
+        cv2.multiply(bg.dy, grey_gain, dst=work.plate_dy, dtype=cv2.CV_16S)  # type: ignore[call-overload]
         return work.plate, work.plate_dx, work.plate_dy, work.relit
 
     def prime(self, previous: Frame) -> None:
@@ -319,12 +320,12 @@ class FeatureExtractor:
         cv2.absdiff(dx, plate_dx, dst=adx)
         cv2.absdiff(dy, plate_dy, dst=ady)
         cv2.add(adx, ady, dst=magnitude)
-        edge = cv2.compare(magnitude, cfg.edge_threshold, cv2.CMP_GT, dst=out["edge"])
+        edge = cast(Mask, cv2.compare(magnitude, cfg.edge_threshold, cv2.CMP_GT, dst=out["edge"]))  # type: ignore[call-overload]
         clock.lap("edge")
         # I_motion: grey difference to the previous frame.
         if self._has_previous:
             cv2.absdiff(grey, work.greys[self._current ^ 1], dst=work.tmp)
-            motion = cv2.compare(work.tmp, cfg.motion_threshold, cv2.CMP_GT, dst=out["motion"])
+            motion = cast(Mask, cv2.compare(work.tmp, cfg.motion_threshold, cv2.CMP_GT, dst=out["motion"]))  # type: ignore[call-overload]
         else:
             motion = out["motion"]
             motion.fill(0)
@@ -340,7 +341,7 @@ class FeatureExtractor:
             skin0 = self._person_skin0(self.person_skin, relit, joints, out["skin0"])
         distance, before = self._distance(frame, plate), work.distances[self._current ^ 1]
         cv2.compare(distance, before, cv2.CMP_GE, dst=work.allowed)
-        cv2.compare(before, cfg.sub_threshold, cv2.CMP_LE, dst=work.tmp)
+        cv2.compare(before, cfg.sub_threshold, cv2.CMP_LE, dst=work.tmp)  # type: ignore[call-overload]
         cv2.bitwise_or(work.allowed, work.tmp, dst=work.allowed)
         cv2.bitwise_and(work.allowed, motion, dst=work.allowed)
         cv2.bitwise_or(self._not_background_skin, work.allowed, dst=work.allowed)
@@ -375,7 +376,7 @@ class FeatureExtractor:
         elif region is None and joints is not None and np.all(np.isfinite(joints[[RIGHT_SHOULDER, LEFT_SHOULDER]])):
             region = torso_region_from_shoulders(joints[RIGHT_SHOULDER], joints[LEFT_SHOULDER], size)
         elif region is not None:
-            region = cv2.compare(region, 0, cv2.CMP_GT)
+            region = cast(Mask, cv2.compare(region, 0, cv2.CMP_GT))  # type: ignore[call-overload]
         arm = arm_silhouette(sil, region, out["arm_sil"]) if region is not None else None
         clock.lap("arm_sil")
         sil_bits, edge_bits, motion_bits = (
@@ -414,7 +415,7 @@ def _morph(image: Mask, op: int, size: int, out: Mask) -> Mask:
     if kernel is None:
         np.copyto(out, image)
         return out
-    return cv2.morphologyEx(image, op, kernel, dst=out)
+    return cast(Mask, cv2.morphologyEx(image, op, kernel, dst=out))
 
 
 def _open_close(image: Mask, open_size: int, close_size: int, scratch: Mask, out: Mask) -> Mask:
@@ -431,7 +432,7 @@ def _dilate(image: Mask, kernel: npt.NDArray[np.uint8] | None, out: Mask) -> Mas
     if kernel is None:
         np.copyto(out, image)
         return out
-    return cv2.dilate(image, kernel, dst=out)
+    return cast(Mask, cv2.dilate(image, kernel, dst=out))
 
 
 def compute_features(

@@ -10,6 +10,7 @@ from __future__ import annotations
 import dataclasses
 import functools
 from dataclasses import dataclass
+from typing import cast
 
 import cv2
 import numpy as np
@@ -67,12 +68,12 @@ class FrameFeatures:
     @functools.cached_property
     def mot_skin(self) -> Mask:
         """I_MotSkin = I_motion & I_skin (Eq. 3.4.3-1), computed on first use (display only)."""
-        return cv2.bitwise_and(self.motion, self.skin)
+        return cast(Mask, cv2.bitwise_and(self.motion, self.skin))
 
     @functools.cached_property
     def mot_edge(self) -> Mask:
         """I_MotEdge = I_motion & I_edge & I_skin (Eq. 3.4.3-2), computed on first use."""
-        return cv2.bitwise_and(self.mot_skin, self.edge)
+        return cast(Mask, cv2.bitwise_and(self.mot_skin, self.edge))
 
     @functools.cached_property
     def mot_combined(self) -> Mask:
@@ -80,7 +81,7 @@ class FrameFeatures:
 
         The motion flags use I_motion instead (SPEC 4): this one never fires on a clothed torso.
         """
-        return cv2.bitwise_and(self.mot_skin, self.mot_edge)
+        return cast(Mask, cv2.bitwise_and(self.mot_skin, self.mot_edge))
 
     @functools.cached_property
     def cover_bits(self) -> Bits:
@@ -147,7 +148,7 @@ class FrameFeatures:
             ValueError: wrong shape or dtype.
         """
         region = check_mask(torso_region, "torso_region", self.size)
-        arm = arm_silhouette(self.sil, cv2.compare(region, 0, cv2.CMP_GT))
+        arm = arm_silhouette(self.sil, cv2.compare(region, 0, cv2.CMP_GT))  # type: ignore[call-overload]
         return dataclasses.replace(self, arm_sil=arm, arm_bits=pack_rows(arm))
 
     def images(self) -> dict[str, Mask]:

@@ -9,6 +9,7 @@ lower arm).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import cast
 
 import cv2
 import numpy as np
@@ -44,7 +45,7 @@ class MotionFlag:
 
 def group_mask(labels: Mask, group: tuple[int, int]) -> Mask:
     """255 where `labels` is within the inclusive range `group`."""
-    return cv2.inRange(labels, group[0], group[1])
+    return cast(Mask, cv2.inRange(labels, group[0], group[1]))
 
 
 def motion_flags(motion: Mask, labels: Mask, config: FeatureConfig) -> dict[str, MotionFlag]:
@@ -90,7 +91,7 @@ def torso_region_from_labels(labels: Mask, config: FeatureConfig) -> Mask:
     region = group_mask(labels, TORSO_LABELS)
     if config.arm_torso_erode > 0:
         size = 2 * config.arm_torso_erode + 1
-        region = cv2.erode(region, np.ones((size, size), np.uint8))
+        region = cast(Mask, cv2.erode(region, np.ones((size, size), np.uint8)))
     return region
 
 
@@ -124,5 +125,5 @@ def arm_silhouette(silhouette: Mask, torso_region: Mask, out: Mask | None = None
         out: optional preallocated result.
     """
     if out is None:
-        return cv2.subtract(silhouette, torso_region)
-    return cv2.subtract(silhouette, torso_region, dst=out)
+        return cast(Mask, cv2.subtract(silhouette, torso_region))
+    return cast(Mask, cv2.subtract(silhouette, torso_region, dst=out))

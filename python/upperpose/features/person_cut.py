@@ -14,6 +14,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from concurrent.futures import ThreadPoolExecutor
+from typing import cast
 
 import cv2
 import numpy as np
@@ -102,7 +103,7 @@ def _grabcut_votes(small: Frame, labels: Mask, config: FeatureConfig) -> npt.NDA
         cut = labels.copy()
         background_model = np.zeros((1, 65), np.float64)
         person_model = np.zeros((1, 65), np.float64)
-        cv2.grabCut(
+        cv2.grabCut(  # type: ignore[call-overload]
             small, cut, None, background_model, person_model, config.bg_grabcut_iterations, cv2.GC_INIT_WITH_MASK
         )
         votes += (cut == cv2.GC_FGD) | (cut == cv2.GC_PR_FGD)
@@ -127,8 +128,8 @@ def person_in_median(image: Frame, samples: Sequence[Frame], config: FeatureConf
     seed = grabcut_seed((height, width), face, config.bg_person)
     scale = config.bg_grabcut_scale
     small_size = (max(1, round(width / scale)), max(1, round(height / scale)))
-    small = cv2.resize(image, small_size, interpolation=cv2.INTER_AREA)
-    labels = cv2.resize(seed, small_size, interpolation=cv2.INTER_NEAREST)
+    small = cast(Frame, cv2.resize(image, small_size, interpolation=cv2.INTER_AREA))
+    labels = cast(Mask, cv2.resize(seed, small_size, interpolation=cv2.INTER_NEAREST))
     room = (labels == cv2.GC_BGD) | (labels == cv2.GC_PR_BGD)
     if room.all() or not room.any():  # GrabCut needs both colour models
         return None
@@ -142,7 +143,7 @@ def person_in_median(image: Frame, samples: Sequence[Frame], config: FeatureConf
         except cv2.error:  # too few pixels for one of GrabCut's colour models
             return None
     person = np.where(2 * votes > config.bg_grabcut_runs, 255, 0).astype(np.uint8)
-    return cv2.resize(person, (width, height), interpolation=cv2.INTER_NEAREST)
+    return cast(Mask, cv2.resize(person, (width, height), interpolation=cv2.INTER_NEAREST))
 
 
 __all__ = ["face_of_median", "find_face", "grabcut_seed", "person_in_median"]

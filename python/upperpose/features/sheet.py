@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from typing import cast
+
 import cv2
 import numpy as np
 import numpy.typing as npt
@@ -21,7 +23,7 @@ POINT_COLOURS = {
 def label_tile(image: npt.NDArray[np.uint8], title: str, detail: str = "") -> npt.NDArray[np.uint8]:
     """`image` (grey or BGR) scaled to the tile width with a title bar on top."""
     if image.ndim == 2:
-        image = cv2.cvtColor(image, cv2.COLOR_GRAY2BGR)
+        image = cast(npt.NDArray[np.uint8], cv2.cvtColor(image, cv2.COLOR_GRAY2BGR))
     height = round(image.shape[0] * TILE_WIDTH / image.shape[1])
     tile = cv2.resize(image, (TILE_WIDTH, height), interpolation=cv2.INTER_AREA)
     bar = np.full((22, TILE_WIDTH, 3), 40, np.uint8)
@@ -54,7 +56,7 @@ def label_tile(image: npt.NDArray[np.uint8], title: str, detail: str = "") -> np
 
 def blob_overlay(frame: Frame, features: FrameFeatures) -> npt.NDArray[np.uint8]:
     """The frame with skin blobs outlined (P_SB printed) and head/hand points marked."""
-    out = frame.copy()
+    out: npt.NDArray[np.uint8] = frame.copy()
     for i, blob in enumerate(features.blobs):
         x, y, w, h = blob.bbox
         cv2.rectangle(out, (x, y), (x + w - 1, y + h - 1), (255, 0, 255), 1)
@@ -92,7 +94,7 @@ def blob_overlay(frame: Frame, features: FrameFeatures) -> npt.NDArray[np.uint8]
 
 def sil_overlay(frame: Frame, features: FrameFeatures) -> npt.NDArray[np.uint8]:
     """The frame with I_sil tinted and the arm silhouette, when known, in another tint."""
-    out = frame.copy()
+    out: npt.NDArray[np.uint8] = frame.copy()
     sil = features.sil > 0
     out[sil] = (0.5 * out[sil] + (0, 90, 0)).astype(np.uint8)
     if features.arm_sil is not None:

@@ -6,6 +6,8 @@ them: fresh allocations of frame-sized arrays cost more than the arithmetic here
 
 from __future__ import annotations
 
+from typing import cast
+
 import cv2
 import numpy as np
 
@@ -42,8 +44,8 @@ def skin_rgb(
     cv2.subtract(rows[:, 2:], rows[:, 1:-1], dst=work.diff)
     np.copyto(work.r_minus_g, work.diff[:, 0::3])
     if rg_min == 0:
-        return cv2.compare(work.r_minus_g, rg_max, cv2.CMP_LE, dst=out)
-    return cv2.inRange(work.r_minus_g, rg_min, rg_max, dst=out)
+        return cast(Mask, cv2.compare(work.r_minus_g, rg_max, cv2.CMP_LE, dst=out))  # type: ignore[call-overload]
+    return cast(Mask, cv2.inRange(work.r_minus_g, rg_min, rg_max, dst=out))
 
 
 def skin_ycrcb(
@@ -57,7 +59,7 @@ def skin_ycrcb(
     work = work or SkinWork(*frame.shape[:2])
     out = out if out is not None else np.empty(frame.shape[:2], np.uint8)
     cv2.cvtColor(frame, cv2.COLOR_BGR2YCrCb, dst=work.converted)
-    return cv2.inRange(work.converted, np.array(low, np.uint8), np.array(high, np.uint8), dst=out)
+    return cast(Mask, cv2.inRange(work.converted, np.array(low, np.uint8), np.array(high, np.uint8), dst=out))
 
 
 def skin_hsv(
@@ -76,7 +78,7 @@ def skin_hsv(
     cv2.inRange(work.converted, low, np.array([hue_max, max_s, 255], np.uint8), dst=out)
     low[0] = 180 - hue_max
     cv2.inRange(work.converted, low, np.array([180, max_s, 255], np.uint8), dst=work.second)
-    return cv2.bitwise_or(out, work.second, dst=out)
+    return cast(Mask, cv2.bitwise_or(out, work.second, dst=out))
 
 
 def skin_mask(
@@ -95,7 +97,7 @@ def skin_mask(
         # than the YCrCb rule's brightness floor.
         low, high = (0, *config.ycrcb_min[1:]), (255, *config.ycrcb_max[1:])
         ycrcb = skin_ycrcb(frame, low, high, work, work.second)
-        return cv2.bitwise_and(rgb, ycrcb, dst=rgb)
+        return cast(Mask, cv2.bitwise_and(rgb, ycrcb, dst=rgb))
     if config.skin_space == "hsv":
         return skin_hsv(frame, config.hsv_hue_max, config.hsv_min_sv, config.hsv_max_s, work, out)
     return skin_rgb(frame, config.rgb_rg_min, config.rgb_rg_max, work, out)

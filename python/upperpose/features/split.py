@@ -12,6 +12,8 @@ them, so a shaded contact between hand and face is not taken for hair.
 
 from __future__ import annotations
 
+from typing import cast
+
 import cv2
 import numpy as np
 import numpy.typing as npt
@@ -29,7 +31,7 @@ def chromaticity(bgr: npt.NDArray[np.uint8]) -> npt.NDArray[np.float64]:
     """`(N, 2)` (r, g) = (R, G) / (R + G + B) of `(N, 3)` BGR pixels."""
     values = bgr.astype(np.float64)
     total = values.sum(axis=1, keepdims=True) + 1.0
-    return values[:, [2, 1]] / total
+    return cast(npt.NDArray[np.float64], values[:, [2, 1]] / total)
 
 
 def part_colour(
@@ -79,7 +81,7 @@ def split_at_colour(
     x, y, w, h = blob.bbox
     mask = np.zeros((h, w), np.uint8)
     mask[blob.ys[keep] - y, blob.xs[keep] - x] = 255
-    _, labels = cv2.connectedComponents(mask, connectivity=8, ltype=cv2.CV_32S)
+    _, labels = cast(tuple[int, npt.NDArray[np.int32]], cv2.connectedComponents(mask, connectivity=8, ltype=cv2.CV_32S))
     origin = np.array([x, y], np.float64)
     ours = component_at(labels, head - origin)
     theirs = component_at(labels, hand - origin)
@@ -107,7 +109,7 @@ def head_with_hair(blob: SkinBlob, face: Mask, hand: Mask) -> Mask:
     whole[blob.ys - y, blob.xs - x] = 255
     to_face, to_hand = (cv2.distanceTransform(cv2.bitwise_not(m), cv2.DIST_L2, 3) for m in (face, hand))
     nearer = np.where(to_face <= to_hand, 255, 0).astype(np.uint8)
-    return cv2.bitwise_and(cv2.subtract(whole, hand), nearer)
+    return cast(Mask, cv2.bitwise_and(cv2.subtract(whole, hand), nearer))
 
 
 def hull_overlap(a: SkinBlob, b: SkinBlob, box: tuple[int, int, int, int]) -> int:
@@ -144,7 +146,9 @@ def split_head_from_hands(
         shared = matched[0]
         if shared is None or not merged[0] or matched[hand] != shared:
             continue
-        pieces = split_at_colour(blobs[shared], frame, targets[0], targets[hand], radius, config)
+        head_target = cast(npt.NDArray[np.float64], targets[0])  # not None: checked above
+        hand_target = cast(npt.NDArray[np.float64], targets[hand])
+        pieces = split_at_colour(blobs[shared], frame, head_target, hand_target, radius, config)
         if pieces is not None:
             blobs[shared : shared + 1] = pieces
             blobs.sort(key=lambda b: -b.area)

@@ -18,6 +18,7 @@ frame after frame.
 from __future__ import annotations
 
 from collections import deque
+from typing import cast
 
 import numpy as np
 import numpy.typing as npt
@@ -174,7 +175,7 @@ class RootEstimator:
         # Without a head measurement the last one still anchors X, Y: the search's root window
         # must not be able to walk the body away frame after frame.
         self.root[:2] += self._xy_gain * (self._anchor - self.root[:2])
-        return self.root.copy()
+        return cast(npt.NDArray[np.float64], self.root.copy())
 
 
 __all__ = ["RootEstimator"]

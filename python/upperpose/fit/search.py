@@ -6,7 +6,7 @@ See docs/cost.md for the cost terms and docs/search.md for the search.
 from __future__ import annotations
 
 from collections.abc import Iterable
-from typing import Protocol
+from typing import Literal, Protocol
 
 import numpy as np
 import numpy.typing as npt
@@ -17,14 +17,21 @@ from upperpose.exceptions import InputError
 from upperpose.model import PoseLike, as_float_array, pose_array
 
 STAGES = ("torso", "right_arm", "left_arm")
+# The core's string options (`SearchConfig(limits=..., optimizer=...)`, `fit_frame(mode=...)`).
+Limits = Literal["anatomical", "thesis"]
+Optimizer = Literal["apso", "pso", "simplex", "apsopf"]
+Mode = Literal["trajectory", "initial"]
 
 
 class BitFeatures(Protocol):
     """What the search reads from a frame's features (`upperpose.features.FrameFeatures`)."""
 
-    sil_bits: npt.NDArray[np.uint64]
-    edge_bits: npt.NDArray[np.uint64]
-    motion_bits: npt.NDArray[np.uint64]
+    @property
+    def sil_bits(self) -> npt.NDArray[np.uint64]: ...
+    @property
+    def edge_bits(self) -> npt.NDArray[np.uint64]: ...
+    @property
+    def motion_bits(self) -> npt.NDArray[np.uint64]: ...
 
     def points_array(self) -> npt.NDArray[np.float64]:
         """`(3, 2)` head, right-hand and left-hand points in pixels; NaN when absent or merged."""
@@ -39,7 +46,7 @@ def fit_frame(
     camera: Camera,
     *,
     width: int | None = None,
-    mode: str = "trajectory",
+    mode: Mode = "trajectory",
     window_scale: float = 1.0,
     frame_interval: float = 1.0 / 30.0,
     search: Iterable[str] = STAGES,
@@ -121,4 +128,4 @@ def merged_boxes(features: BitFeatures) -> npt.NDArray[np.float64] | None:
     return None if boxes is None else np.ascontiguousarray(boxes(), dtype=np.float64)
 
 
-__all__ = ["STAGES", "FrameFit", "SearchConfig", "fit_frame"]
+__all__ = ["STAGES", "FrameFit", "Limits", "Mode", "Optimizer", "SearchConfig", "fit_frame"]

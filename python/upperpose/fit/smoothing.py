@@ -42,7 +42,8 @@ def centre_weights(half: int) -> FloatArray:
     k = np.arange(-half, half + 1, dtype=float)
     basis = np.stack([np.ones_like(k), k, k * k], axis=1)
     # The fitted value at k = 0 is the first coefficient: row 0 of the pseudo-inverse.
-    return np.linalg.pinv(basis)[0]
+    weights: FloatArray = np.linalg.pinv(basis)[0]
+    return weights
 
 
 def has_pose(result: TrackResult) -> bool:

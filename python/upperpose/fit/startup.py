@@ -19,7 +19,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
 import numpy.typing as npt
@@ -34,7 +34,11 @@ from upperpose.model import BodyModel, Camera, Pose, forward_kinematics, project
 # start-up frames (single frames vary by about +-8 %: use a median over several frames).
 FACE_WIDTH_M = 0.166
 # The dimensions scaled together as the body's width.
-WIDTH_KEYS = ("shoulder_width", "torso_half_width", "torso_half_depth")
+WIDTH_KEYS: tuple[Literal["shoulder_width", "torso_half_width", "torso_half_depth"], ...] = (
+    "shoulder_width",
+    "torso_half_width",
+    "torso_half_depth",
+)
 # Joint indices (JOINT_NAMES order).
 HEAD, R_SHOULDER, L_SHOULDER, R_ELBOW, L_ELBOW, R_HAND, L_HAND = range(7)
 
@@ -335,6 +339,7 @@ __all__ = [
     "WIDTH_KEYS",
     "APoseCheck",
     "StartupFit",
+    "FaceBox",
     "FaceDetector",
     "check_apose",
     "choose_face",

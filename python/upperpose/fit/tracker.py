@@ -12,7 +12,7 @@ from __future__ import annotations
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any, Protocol
+from typing import Any, Protocol, cast
 
 import cv2
 import numpy as np
@@ -32,7 +32,7 @@ from upperpose.fit.recovery import (
     unexplained_by_side,
 )
 from upperpose.fit.root import RootEstimator
-from upperpose.fit.search import SearchConfig, fit_frame
+from upperpose.fit.search import Limits, Mode, Optimizer, SearchConfig, fit_frame
 from upperpose.fit.startup import (
     FaceBox,
     FaceDetector,
@@ -59,12 +59,18 @@ PART_ANGLES = {"torso": slice(0, 3), "right_arm": slice(3, 8), "left_arm": slice
 class FitLike(Protocol):
     """What a fitter returns (`upperpose.FrameFit` or a test double)."""
 
-    pose: Any
-    root: Any
-    joints_3d: Any
-    joints_2d: Any
-    cost: float
-    stage_costs: dict[str, float]
+    @property
+    def pose(self) -> Any: ...
+    @property
+    def root(self) -> Any: ...
+    @property
+    def joints_3d(self) -> Any: ...
+    @property
+    def joints_2d(self) -> Any: ...
+    @property
+    def cost(self) -> float: ...
+    @property
+    def stage_costs(self) -> dict[str, float]: ...
 
 
 Fitter = Callable[..., FitLike]
@@ -145,11 +151,11 @@ class TrackerConfig:
     iterations: int | None = None
     threads: int | None = None
     seed: int = 0
-    limits: str = "anatomical"
-    optimizer: str = "apso"
+    limits: Limits = "anatomical"
+    optimizer: Optimizer = "apso"
     sigma: float | None = None
     root_window: float = 0.04
-    search: Any = None
+    search: SearchConfig | None = None
     features: FeatureConfig | None = None
     skip_static: bool = True
     confirm_frames: int = 3
@@ -208,7 +214,7 @@ def _nearer_hand_point(features: FrameFeatures, new: FitLike, old: FitLike, arm:
     return gap[0] < gap[1]
 
 
-def _limit_hull(preset: str) -> tuple[FloatArray, FloatArray]:
+def _limit_hull(preset: Limits) -> tuple[FloatArray, FloatArray]:
     limits = joint_limits(preset)
     low = np.array([min(a for a, _ in intervals) for intervals in limits])
     high = np.array([max(b for _, b in intervals) for intervals in limits])
@@ -433,9 +439,9 @@ class Tracker:
         self._previous_pose = self._pose.copy()
         self._lost.reset()
         self._doubt.reset()
-        self._corrected = ()
+        self._corrected: tuple[str, ...] = ()
         self._follow.reset()
-        return fit
+        return cast(FitLike, fit)
 
     # -- tracking -----------------------------------------------------------------------------
 
@@ -524,7 +530,7 @@ class Tracker:
         features: FrameFeatures,
         prediction: FloatArray,
         root: FloatArray,
-        mode: str,
+        mode: Mode,
         search: tuple[str, ...],
         index: int,
         interval: float,

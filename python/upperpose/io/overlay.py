@@ -66,7 +66,7 @@ class OverlayWriter:
         if not folder.is_dir():
             raise OSError(f"cannot write {self.path}: folder {folder} does not exist")
         self._tmp = folder / f".{self.path.name}.partial{self.path.suffix or '.mp4'}"
-        self._writer = cv2.VideoWriter(str(self._tmp), cv2.VideoWriter_fourcc(*"mp4v"), fps, (width, height))
+        self._writer = cv2.VideoWriter(str(self._tmp), cv2.VideoWriter_fourcc(*"mp4v"), fps, (width, height))  # type: ignore[attr-defined]
         if not self._writer.isOpened():
             self._tmp.unlink(missing_ok=True)
             raise VideoError(f"cannot open an mp4v video writer for {self.path}")

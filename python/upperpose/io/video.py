@@ -5,6 +5,7 @@ from __future__ import annotations
 import os
 from collections.abc import Iterator
 from pathlib import Path
+from typing import cast
 
 import cv2
 import numpy as np
@@ -40,7 +41,7 @@ class VideoReader:
             raise InputError(f"camera index must be within 0..{MAX_CAMERA_INDEX}, got {source}")
         self.name = f"camera {source}" if isinstance(source, int) else str(source)
         self.live = isinstance(source, int) or is_stream_url(source)
-        if not self.live:
+        if not isinstance(source, int) and not self.live:
             path = Path(source)
             if not path.exists():
                 raise VideoError(f"no such video: {path}")
@@ -60,7 +61,7 @@ class VideoReader:
         if not ok or first is None or first.ndim != 3 or first.shape[2] != 3:
             self._cap.release()
             raise VideoError(f"{self.name} has no decodable frames (empty or corrupt video)")
-        self._first: Frame | None = first
+        self._first: Frame | None = cast(Frame, first)
         self.height, self.width = int(first.shape[0]), int(first.shape[1])
         if not (MIN_SIDE <= self.width <= MAX_SIDE and MIN_SIDE <= self.height <= MAX_SIDE):
             self._cap.release()
@@ -81,7 +82,7 @@ class VideoReader:
             ok, frame = self._cap.read()
             if not ok or frame is None:
                 return
-            yield frame
+            yield cast(Frame, frame)
 
     def close(self) -> None:
         """Releases the decoder."""

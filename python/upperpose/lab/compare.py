@@ -19,11 +19,14 @@ from collections.abc import Callable, Sequence
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from upperpose.exceptions import UpperposeError
 from upperpose.lab.evaluate import evaluate
 from upperpose.model import JOINT_NAMES
+
+if TYPE_CHECKING:
+    from upperpose.fit.search import Limits, Optimizer
 
 
 @dataclass(frozen=True)
@@ -31,8 +34,8 @@ class Method:
     """One column: a search method and its settings."""
 
     label: str
-    optimizer: str
-    limits: str = "anatomical"
+    optimizer: Optimizer
+    limits: Limits = "anatomical"
     sigma: float | None = None
 
 

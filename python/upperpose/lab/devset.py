@@ -14,15 +14,17 @@ import json
 import subprocess
 import sys
 import tempfile
+from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
+from typing import Any, cast
 
 from upperpose.fit.settings import config_from_dict, config_to_toml
 
 JOINTS = ["head", "right_shoulder", "left_shoulder", "right_elbow", "left_elbow", "right_hand", "left_hand"]
 
 
-def run_clip(clip: Path, out_dir: Path, plate: bool, seed: int, overrides: dict) -> dict:
+def run_clip(clip: Path, out_dir: Path, plate: bool, seed: int, overrides: dict[str, Any]) -> dict[str, Any]:
     """Tracks and scores one clip; returns the scores, the start-up frame and the tracked share."""
     meta = json.loads((clip / "meta.json").read_text())
     out = out_dir / f"{clip.name}{'' if plate else '-noplate'}-s{seed}.json"
@@ -52,22 +54,22 @@ def run_clip(clip: Path, out_dir: Path, plate: bool, seed: int, overrides: dict)
     return {"clip": clip.name, "scores": scores, "start": start, "tracked": tracked}
 
 
-def accept(r: dict) -> bool:
+def accept(r: dict[str, Any]) -> bool:
     """Issue 6 acceptance: <= 6 px per axis over all joints, elbows and hands <= 10 px, >= 95 % tracked."""
     s = r["scores"]
     e = s["joint_error_px"]
     limbs = max(max(e[j]) for j in JOINTS[3:])
-    return s["mean_abs_x_px"] <= 6 and s["mean_abs_y_px"] <= 6 and limbs <= 10 and r["tracked"] >= 95
+    return cast(bool, s["mean_abs_x_px"] <= 6 and s["mean_abs_y_px"] <= 6 and limbs <= 10 and r["tracked"] >= 95)
 
 
-def table(results: list[dict]) -> str:
+def table(results: list[dict[str, Any]]) -> str:
     """The Table 4.2-1 layout of docs/RESULTS.md, one column per clip."""
 
     def row(name: str, vals: list[str]) -> str:
         return f"| {name} | " + " | ".join(vals) + " |"
 
-    f1 = lambda v: "-" if v is None else f"{v:.1f}"  # noqa: E731
-    f0 = lambda v: "-" if v is None else f"{v:.0f}"  # noqa: E731
+    f1: Callable[[float | None], str] = lambda v: "-" if v is None else f"{v:.1f}"  # noqa: E731
+    f0: Callable[[float | None], str] = lambda v: "-" if v is None else f"{v:.0f}"  # noqa: E731
     lines = [row("row", [r["clip"][:2] for r in results]), "|---|" + "---:|" * len(results)]
     for j in JOINTS:
         name = j.replace("_", " ").capitalize()

@@ -14,6 +14,7 @@ import json
 import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import cast
 
 import cv2
 import numpy as np
@@ -110,7 +111,7 @@ def score_clip(folder: Path, config: FeatureConfig, estimated: bool = False) -> 
             background = background_from_video(folder / "video.mp4", config)
     else:
         plate = cv2.imread(str(folder / "background.png"), cv2.IMREAD_COLOR)
-        background = Background.from_plate(plate, config)
+        background = Background.from_plate(cast(npt.NDArray[np.uint8], plate), config)
     score = ClipScore(folder.name, background.method)
     extract = FeatureExtractor(background, config, reuse_buffers=True)
     detect_faces = FaceDetector()
@@ -126,11 +127,13 @@ def score_clip(folder: Path, config: FeatureConfig, estimated: bool = False) -> 
             break
         entry = truth_frames.get(index, {})
         joints = np.asarray(entry["joints_2d"], np.float64) if entry.get("joints_2d") else None
-        features = extract(frame, previous_joints if previous_joints is not None else joints)
+        features = extract(
+            cast(npt.NDArray[np.uint8], frame), previous_joints if previous_joints is not None else joints
+        )
         if config.person_skin and extract.person_skin is None:
-            face = choose_face(detect_faces(frame), features.skin)
+            face = choose_face(detect_faces(cast(npt.NDArray[np.uint8], frame)), features.skin)
             if face is not None:
-                extract.learn_skin(frame, face)
+                extract.learn_skin(cast(npt.NDArray[np.uint8], frame), face)
         person = unpack(masks["person"], index, width)
         skin = unpack(masks["skin"], index, width) if "skin" in masks else None
         sil = features.sil > 0
@@ -194,7 +197,7 @@ def main() -> None:
     print(header)
     for folder in folders:
         for skin in args.skin:
-            config = FeatureConfig(skin_space=skin)  # type: ignore[arg-type]
+            config = FeatureConfig(skin_space=skin)
             for estimated in [False, True] if args.estimated else [False]:
                 s = score_clip(folder, config, estimated)
                 pts = " ".join(f"{100 * w:4.0f}%/{m:4.1f}" for w, m in zip(s.within, s.median_error))

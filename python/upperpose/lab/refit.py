@@ -11,9 +11,11 @@ import argparse
 import json
 import time
 from pathlib import Path
+from typing import Any, cast
 
 import cv2
 import numpy as np
+import numpy.typing as npt
 
 from upperpose.features import Background, FeatureExtractor
 from upperpose.fit.search import SearchConfig, fit_frame
@@ -28,17 +30,19 @@ def refit_clip(folder: Path, noise: float, limit: int | None, config: SearchConf
     camera = Camera.perspective(cam["focal"], cam["cx"], cam["cy"])
     body = BodyModel(**meta["body"])
     plate = cv2.imread(str(folder / "background.png"))
-    extractor = FeatureExtractor(Background.from_plate(plate), reuse_buffers=True)
+    extractor = FeatureExtractor(Background.from_plate(cast(npt.NDArray[np.uint8], plate)), reuse_buffers=True)
     rng = np.random.default_rng(seed)
     video = cv2.VideoCapture(str(folder / "video.mp4"))
     errors, before, seconds = [], [], []
-    previous = None
+    previous: Any = None  # the previous gt.json frame (JSON)
     for i, truth in enumerate(gt):
         ok, frame = video.read()
         if not ok or (limit is not None and i >= limit):
             break
         have = truth["status"] == "tracked" and previous is not None and previous["status"] == "tracked"
-        features = extractor(frame, predicted_joints=np.array(previous["joints_2d"]) if have else None)
+        features = extractor(
+            cast(npt.NDArray[np.uint8], frame), predicted_joints=np.array(previous["joints_2d"]) if have else None
+        )
         if have:
             prediction = np.array(previous["angles"]) + rng.normal(0.0, noise, 13)
             start = time.perf_counter()

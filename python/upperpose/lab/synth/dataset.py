@@ -16,7 +16,7 @@ import json
 import os
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any
+from typing import Any, cast
 
 import cv2
 import numpy as np
@@ -77,7 +77,7 @@ def load_meta(folder: str | os.PathLike[str]) -> dict[str, Any]:
         raise ValueError(f'{path}: needs "camera": {{"focal": PX, "cx": PX, "cy": PX}}')
     if not cam["focal"] > 0:
         raise ValueError(f"{path}: camera focal must be positive, got {cam['focal']}")
-    return meta
+    return cast(dict[str, Any], meta)
 
 
 def _write_json(path: Path, data: dict[str, Any]) -> None:
@@ -108,7 +108,7 @@ def write_clip(
     person_masks, skin_masks, frames = [], [], []
 
     def write_video(tmp: Path) -> None:
-        writer = cv2.VideoWriter(str(tmp), cv2.VideoWriter_fourcc(*"mp4v"), c.fps, (c.width, c.height))
+        writer = cv2.VideoWriter(str(tmp), cv2.VideoWriter_fourcc(*"mp4v"), c.fps, (c.width, c.height))  # type: ignore[attr-defined]
         if not writer.isOpened():
             raise VideoError(f"cannot open an mp4v video writer for {out / VIDEO}")
         try:

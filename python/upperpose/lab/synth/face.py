@@ -8,6 +8,7 @@ photo pixels so that OpenCV's frontal-face Haar cascade finds the rendered face.
 from __future__ import annotations
 
 import functools
+from typing import cast
 
 import cv2
 import numpy as np
@@ -31,13 +32,13 @@ def _photo() -> npt.NDArray[np.uint8]:
         from skimage import data  # imported lazily: scikit-image is slow to import
     except ImportError:
         raise UpperposeError("synthetic faces need scikit-image: pip install 'upperpose[synth]'") from None
-    return np.ascontiguousarray(data.astronaut()[:, :, ::-1])  # RGB -> BGR
+    return np.ascontiguousarray(data.astronaut()[:, :, ::-1])  # type: ignore[no-untyped-call]  # RGB -> BGR
 
 
 def _oval_alpha(shape: tuple[int, int]) -> npt.NDArray[np.float32]:
     ys, xs = np.mgrid[0 : shape[0], 0 : shape[1]].astype(np.float32)
     r = np.hypot((xs - FACE_CENTRE[0]) / FACE_HALF_AXES[0], (ys - FACE_CENTRE[1]) / FACE_HALF_AXES[1])
-    return np.clip((1.08 - r) / 0.16, 0.0, 1.0).astype(np.float32)
+    return cast(npt.NDArray[np.float32], np.clip((1.08 - r) / 0.16, 0.0, 1.0).astype(np.float32))
 
 
 @functools.lru_cache(maxsize=8)
@@ -78,4 +79,4 @@ def sample_face(skin: str, qx: npt.NDArray[np.float64], qy: npt.NDArray[np.float
     mx = (FACE_CENTRE[0] + qx * PIXELS_PER_UNIT[0]).astype(np.float32).reshape(-1, 1)
     my = (CENTRE_ROW + qy * PIXELS_PER_UNIT[1]).astype(np.float32).reshape(-1, 1)
     out = cv2.remap(tex, mx, my, cv2.INTER_LINEAR, borderMode=cv2.BORDER_CONSTANT, borderValue=0)
-    return out.reshape(-1, 4)
+    return cast(npt.NDArray[np.float32], out.reshape(-1, 4))

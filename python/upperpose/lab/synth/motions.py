@@ -12,6 +12,7 @@ SPEC 6 held for about a second; a slow sway of the torso runs underneath everyth
 from __future__ import annotations
 
 from collections.abc import Callable
+from typing import cast
 
 import numpy as np
 import numpy.typing as npt
@@ -57,7 +58,7 @@ def min_jerk(s: FloatArray) -> FloatArray:
 def _pose(right: Key, left: Key, torso: Key | None = None) -> FloatArray:
     named = {f"right_{k}": v for k, v in right.items()} | {f"left_{k}": v for k, v in left.items()}
     named |= {f"torso_{k}": v for k, v in (torso or {}).items()}
-    return Pose(**named).angles.copy()
+    return cast(FloatArray, Pose(**named).angles.copy())
 
 
 def keyframe_track(keys: Keys, times: FloatArray) -> FloatArray:

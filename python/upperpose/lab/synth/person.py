@@ -10,6 +10,7 @@ ellipsoids with a thumb. Only the joints are shared: every solid hangs off
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import cast
 
 import numpy as np
 import numpy.typing as npt
@@ -191,7 +192,7 @@ class Texture:
     def noise(self, p: FloatArray, level: int) -> FloatArray:
         """Smooth noise in [-1, 1] at `(N, 3)` points; level 0 folds, 1 blotches, 2 weave."""
         dirs, phase, freq = self.waves[level]
-        return np.sin(p @ dirs.T * freq + phase).mean(axis=1) * 1.6
+        return cast(FloatArray, np.sin(p @ dirs.T * freq + phase).mean(axis=1) * 1.6)
 
     def cloth(self, base: FloatArray, pattern: str, p: FloatArray) -> FloatArray:
         """Shirt albedo `(N, 3)` for pattern at texture-frame points `p`."""

@@ -7,6 +7,7 @@ frame with its exact person and skin masks. The same config and seed give the sa
 
 from __future__ import annotations
 
+import typing
 from collections.abc import Iterator
 from dataclasses import asdict, dataclass
 
@@ -191,7 +192,7 @@ def finish(image: npt.NDArray[np.float32], noise: float, rng: np.random.Generato
     if noise > 0:
         shot = np.sqrt(np.clip(blurred, 0, 255) / 128.0)
         blurred = blurred + rng.standard_normal(blurred.shape, dtype=np.float32) * (noise * (0.5 + 0.5 * shot))
-    return np.clip(blurred + 0.5, 0, 255).astype(np.uint8)
+    return typing.cast(npt.NDArray[np.uint8], np.clip(blurred + 0.5, 0, 255).astype(np.uint8))
 
 
 def clean_plate(plan: ClipPlan) -> npt.NDArray[np.uint8]:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
+from typing import cast
 
 import cv2
 import numpy as np
@@ -24,7 +25,7 @@ def clip_frames(video: str | os.PathLike[str], picks: tuple[float, ...]) -> list
         ok, frame = cap.read()
         if not ok:
             break
-        frames.append(frame)
+        frames.append(cast(npt.NDArray[np.uint8], frame))
     cap.release()
     if not frames:
         raise VideoError(f"cannot read any frame from {video}")
