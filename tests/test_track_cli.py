@@ -113,19 +113,53 @@ def test_interrupted_run_leaves_a_valid_file(
     assert sorted(p.name for p in tmp_path.iterdir()) == ["poses.json"]  # no temporary files left
 
 
-def test_writing_is_atomic(tmp_path: Path) -> None:
+def test_writing_is_atomic(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     out = tmp_path / "poses.json"
     out.write_text("previous")
     recorder = PoseRecorder(320, 240, 15.0)
     recorder.add(TrackResult(0, "no_person"))
-    recorder.records.append({"frame": 1, "status": "tracked", "joints_2d": [[1.0, 2.0]]})  # broken frame
     with pytest.raises(ValueError, match="joints_2d"):
+        recorder.add_record({"frame": 1, "status": "tracked", "joints_2d": [[1.0, 2.0]]})  # broken: refused at once
+    with pytest.raises(ValueError, match="frames must increase"):
+        recorder.add(TrackResult(0, "no_person"))
+    recorder.add(TrackResult(1, "initialising"))
+
+    def failing_lines():  # type: ignore[no-untyped-def]
+        yield '{"frame":0,"status":"no_person"}'
+        raise OSError("disk full")
+
+    monkeypatch.setattr(recorder, "_lines", failing_lines)
+    with pytest.raises(OSError, match="disk full"):
         recorder.write_json(out, 1.0)
     assert out.read_text() == "previous"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["poses.json"]
-    recorder.records.pop()
-    recorder.write_json(out, 1.0)
-    assert load_poses(out)["frames"][0]["status"] == "no_person"
+    monkeypatch.undo()
+    with recorder:
+        recorder.write_json(out, 1.0)
+    assert [f["status"] for f in load_poses(out)["frames"]] == ["no_person", "initialising"]
+
+
+def test_recorder_memory_does_not_hold_the_frames() -> None:
+    import tracemalloc
+
+    pose = np.zeros(13)
+    joints = np.zeros((7, 2)) + 100.0
+    joints3 = np.zeros((7, 3)) + 2.0
+    recorder = PoseRecorder(640, 480, 30.0)
+
+    def add(n: int, start: int) -> None:
+        for i in range(start, start + n):
+            recorder.add(TrackResult(i, "tracked", pose, pose[:3], joints, joints3, 1.0))
+
+    add(200, 0)
+    tracemalloc.start()
+    before = tracemalloc.get_traced_memory()[0]
+    add(5000, 200)
+    grown = tracemalloc.get_traced_memory()[0] - before
+    tracemalloc.stop()
+    recorder.close()
+    assert recorder.frames == 5200 and recorder.first_posed == 0
+    assert grown < 200_000  # kept in memory, 5,000 records would take over 20 MB
 
 
 # -- bad input --------------------------------------------------------------------------------
@@ -380,14 +414,14 @@ def test_sigterm_and_a_second_interrupt_while_writing_keep_a_whole_file(
                 os.kill(os.getpid(), signal.SIGTERM)  # as a job scheduler would
             yield frame
 
-    write = output_module.write_poses
+    write = output_module.write_pose_lines
 
-    def impatient(path, data):  # type: ignore[no-untyped-def]
+    def impatient(path, head, lines):  # type: ignore[no-untyped-def]
         os.kill(os.getpid(), signal.SIGINT)  # Ctrl-C again while the file is being written
-        return write(path, data)
+        return write(path, head, lines)
 
     monkeypatch.setattr(VideoReader, "__iter__", terminated)
-    monkeypatch.setattr(output_module, "write_poses", impatient)
+    monkeypatch.setattr(output_module, "write_pose_lines", impatient)
     out = tmp_path / "poses.json"
     folder = clip()
     code, _, err = track(

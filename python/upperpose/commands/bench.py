@@ -49,6 +49,7 @@ def measure(
             statuses.append(result.status)
     finally:
         run_.close()
+        recorder.close()
     wall = time.perf_counter() - start
     t = run_.times
     keep = np.array([s in (TRACKED, LOST) for s in statuses])

@@ -83,7 +83,8 @@ def run(args: argparse.Namespace) -> int:
     finally:
         run_.close()
         overlay.close()
-        recorder.write_json(out / "poses.json", time.perf_counter() - started)
+        with recorder:
+            recorder.write_json(out / "poses.json", time.perf_counter() - started)
     write_image(out / "sheet.png", contact_sheet(tiles))
     scores = evaluate(load_poses(out / "poses.json"), load_poses(clip / "gt.json"))
     print()

@@ -232,9 +232,10 @@ def run(args: argparse.Namespace) -> int:
             progress.finish()
             run_.close()
             run_time = time.perf_counter() - started
-            written = [recorder.write_json(args.output, run_time)]
-            if args.csv:
-                written.append(recorder.write_csv(args.csv))
+            with recorder:
+                written = [recorder.write_json(args.output, run_time)]
+                if args.csv:
+                    written.append(recorder.write_csv(args.csv))
             if overlay is not None:
                 kept = overlay.close()
                 if kept:
@@ -257,7 +258,7 @@ def run(args: argparse.Namespace) -> int:
         )
     if not args.quiet:
         tracked, lost = recorder.count(TRACKED), recorder.count(LOST)
-        first = next(r["frame"] for r in recorder.records if r["status"] in (TRACKED, LOST))
+        first = recorder.first_posed or 0
         after = frames - first
         print(
             f"Tracked {name}: {frames} frames in {run_time:.1f} s ({frames / run_time:.1f} fps); "

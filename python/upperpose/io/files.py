@@ -21,18 +21,25 @@ from upperpose.exceptions import VideoError
 def interrupts_held() -> Iterator[None]:
     """Holds Ctrl-C and SIGTERM back while the body runs.
 
-    For writing the outputs after an interruption: a signal that arrives meanwhile is
-    delivered when the body ends.
+    For writing the outputs after an interruption: a signal that arrives meanwhile is only
+    noted, and raised as `KeyboardInterrupt` when the body has ended.
     """
-    held = {signal.SIGINT, signal.SIGTERM}
-    if not hasattr(signal, "pthread_sigmask") or threading.current_thread() is not threading.main_thread():
+    if threading.current_thread() is not threading.main_thread():
         yield
         return
-    previous = signal.pthread_sigmask(signal.SIG_BLOCK, held)
+    arrived: list[int] = []
+
+    def note(signum: int, frame: object) -> None:
+        arrived.append(signum)
+
+    previous = {s: signal.signal(s, note) for s in (signal.SIGINT, signal.SIGTERM)}
     try:
         yield
     finally:
-        signal.pthread_sigmask(signal.SIG_SETMASK, previous)
+        for s, handler in previous.items():
+            signal.signal(s, handler)
+    if arrived:
+        raise KeyboardInterrupt
 
 
 def write_atomic(path: str | os.PathLike[str], write: Callable[[Path], object]) -> Path:

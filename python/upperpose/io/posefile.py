@@ -11,6 +11,7 @@ from __future__ import annotations
 import json
 import math
 import os
+from collections.abc import Iterable
 from pathlib import Path
 from typing import Any
 
@@ -166,10 +167,25 @@ def write_poses(path: str | os.PathLike[str], data: dict[str, Any]) -> Path:
     """
     validate_poses(data)
     head = {k: v for k, v in data.items() if k != "frames"}
-    lines = [json.dumps(f, separators=(",", ":")) for f in data["frames"]]
-    body = json.dumps(head, indent=1)[:-2] + ',\n "frames": [\n' + ",\n".join(lines) + "\n ]\n}\n"
+    return write_pose_lines(path, head, (frame_line(f) for f in data["frames"]))
+
+
+def frame_line(frame: dict[str, Any]) -> str:
+    """One frame as the pose file writes it: compact JSON on one line."""
+    return json.dumps(frame, separators=(",", ":"))
+
+
+def write_pose_lines(path: str | os.PathLike[str], head: dict[str, Any], lines: Iterable[str]) -> Path:
+    """Writes a pose file atomically from its header fields and its frames' lines, streamed.
+
+    The caller has validated both (`validate_poses`, `validate_frame`).
+    """
 
     def write(tmp: Path) -> None:
-        tmp.write_text(body, encoding="utf-8")
+        with tmp.open("w", encoding="utf-8") as f:
+            f.write(json.dumps(head, indent=1)[:-2] + ',\n "frames": [\n')
+            for k, line in enumerate(lines):
+                f.write(line if k == 0 else ",\n" + line)
+            f.write("\n ]\n}\n")
 
     return write_atomic(path, write)

@@ -142,14 +142,13 @@ def run_one(clip: Clip, method: Method, frames: int | None, seed: int, threads: 
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", CleanPlateWarning)  # the report names clips without a plate
             run = VideoTracking(clip.video, clip.background, focal=clip.focal, camera=camera, config=config)
-        with run:
-            recorder = PoseRecorder(run.reader.width, run.reader.height, run.fps)
+        with run, PoseRecorder(run.reader.width, run.reader.height, run.fps) as recorder:
             for _, result in run.frames():
                 recorder.add(result)
                 if frames is not None and recorder.frames >= frames:
                     break
-        run_time = time.perf_counter() - started
-        prediction = recorder.document(run_time)
+            run_time = time.perf_counter() - started
+            prediction = recorder.document(run_time)
         truth = load_poses(clip.truth)
         truth["frames"] = [f for f in truth["frames"] if f["frame"] < recorder.frames]
         scores = evaluate(prediction, truth)
