@@ -34,7 +34,7 @@ def test_render_writes_an_image(tmp_path: Path) -> None:
     [
         (["render", "--angle", "elbow=1"], "unknown angle 'elbow'"),
         (["render", "--angle", "right_z_up"], "--angle takes NAME=RAD"),
-        (["render", "--depth", "-1"], "--depth must be positive"),
+        (["render", "--depth", "-1"], "--depth must be within 0.3..100 metres, got -1"),
         (["render", "-o", "/nonexistent-folder/x.png"], "does not exist"),
     ],
 )
@@ -70,3 +70,29 @@ def _current_umask() -> int:
     mask = os.umask(0o022)
     os.umask(mask)
     return mask
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["render", "--width", "20000", "--height", "20000"], "--width must be within 32..8192 pixels"),
+        (["render", "--depth", "1e-12"], "--depth must be within 0.3..100 metres"),
+        (["render", "--focal", "1e-300"], "--focal must be within 1..100000 pixels"),
+        (["synth", "OUT", "--fps", "inf"], "--fps must be within 1..240"),
+        (["synth", "OUT", "--width", "641", "--height", "479"], "--width must be even"),
+        (["synth", "OUT", "--width", "100000"], "--width must be within 32..8192 pixels"),
+    ],
+)
+def test_sizes_and_rates_out_of_range_are_one_line(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], argv: list[str], message: str
+) -> None:
+    argv = [str(tmp_path / "out") if a == "OUT" else a for a in argv]
+    assert main([*argv, "-o", str(tmp_path / "m.png")] if argv[0] == "render" else argv) == 1
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and message in err
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_render_masks_refuses_huge_images_before_allocating() -> None:
+    with pytest.raises(upperpose.InputError, match="width must be at most 8192 pixels, got 20000"):
+        upperpose.render_masks(upperpose.Pose(), [0.0, 0.1, 2.2], upperpose.Camera.for_image(640, 480), 20000, 20000)

@@ -211,7 +211,7 @@ def test_bad_synth_arguments(capsys: pytest.CaptureFixture[str], tmp_path: Path)
     assert main(["synth", str(tmp_path / "x"), "--motion", "moonwalk"]) == 1
     assert "unknown motion 'moonwalk'" in capsys.readouterr().err
     assert main(["synth", str(tmp_path / "x"), "--frames", "0"]) == 1
-    assert "frames must be a positive integer" in capsys.readouterr().err
+    assert "--frames must be within 1..100000, got 0" in capsys.readouterr().err
     assert main(["synth", str(tmp_path / "x"), "--holdout", "1"]) == 1
     assert "--holdout goes with --devset" in capsys.readouterr().err
     assert main(["synth", str(tmp_path / "x"), "--devset", "--holdout", "-1"]) == 1

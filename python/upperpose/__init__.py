@@ -5,7 +5,7 @@ is projected into each frame and matched against image features.
 """
 
 from upperpose._upperpose import __version__, joint_limits
-from upperpose.exceptions import UpperposeError, VideoError
+from upperpose.exceptions import InputError, SearchError, UpperposeError, VideoError
 from upperpose.fit import Tracker, TrackerConfig, TrackResult
 from upperpose.fit.pipeline import track_video
 from upperpose.fit.search import FrameFit, SearchConfig, fit_frame
@@ -30,8 +30,10 @@ __all__ = [
     "BodyModel",
     "Camera",
     "FrameFit",
+    "InputError",
     "Pose",
     "SearchConfig",
+    "SearchError",
     "TrackResult",
     "Tracker",
     "TrackerConfig",

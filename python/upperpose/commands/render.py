@@ -7,6 +7,7 @@ import argparse
 import cv2
 import numpy as np
 
+from upperpose.commands.limits import check_focal, check_number, check_size
 from upperpose.draw import draw_model
 from upperpose.io.files import write_image
 from upperpose.model import ANGLE_NAMES, Camera, Pose
@@ -60,8 +61,9 @@ def parse_angles(items: list[str]) -> Pose:
 
 def render_pose(pose: Pose, width: int, height: int, depth: float, focal: float | None) -> np.ndarray:
     """The model at `pose`, `depth` metres in front of the default camera, on a grey background."""
-    if not depth > 0:
-        raise ValueError(f"--depth must be positive, got {depth}")
+    check_size(width, height)
+    check_number("--depth", depth, 0.3, 100.0, "metres")
+    check_focal(focal)
     camera = Camera.for_image(width, height, focal)
     background = np.full((height, width, 3), 70, np.uint8)
     return draw_model(background, pose, [0.0, 0.15, depth], camera)

@@ -62,6 +62,7 @@ def run(args: argparse.Namespace) -> int:
 
     import numpy as np
 
+    from upperpose.commands.limits import check_focal, check_number, check_size
     from upperpose.io.files import write_image
     from upperpose.lab.synth.appearance import Appearance
     from upperpose.lab.synth.dataset import write_clip
@@ -90,6 +91,12 @@ def run(args: argparse.Namespace) -> int:
         sheet = write_image(Path(args.outdir) / "sheet.png", contact_sheet([Path(args.outdir) / n for n, _ in clips]))
         print(f"wrote {sheet} (contact sheet)")
         return 0
+    check_size(args.width, args.height, even=True)
+    check_number("--fps", args.fps, 1.0, 240.0)
+    check_number("--frames", args.frames, 1, 100_000)
+    check_number("--depth", args.depth, 0.5, 20.0, "metres")
+    check_number("--noise", args.noise, 0.0, 100.0, "grey levels")
+    check_focal(args.focal)
     looks = {k: getattr(args, k) for k in ("skin", "shirt", "pattern", "sleeves", "hair", "build") if getattr(args, k)}
     appearance = None
     if looks:

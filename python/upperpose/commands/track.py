@@ -11,8 +11,6 @@ from pathlib import Path
 
 NAME = "track"
 OPTIMIZERS = ("apso", "pso", "simplex", "apsopf")
-# A focal length outside this range is a typo (a 640-pixel image at 1 px would see 175 degrees).
-MIN_FOCAL_PX, MAX_FOCAL_PX = 1.0, 1e5
 HELP = "track the upper body in a video: poses as JSON (SPEC 9), optionally CSV and an overlay video"
 
 
@@ -95,6 +93,7 @@ def tracker_config(args: argparse.Namespace):  # type: ignore[no-untyped-def]
     """The TrackerConfig of the settings file (if any) with the command-line options over it."""
     import dataclasses
 
+    from upperpose.commands.limits import check_focal
     from upperpose.fit.settings import load_config
     from upperpose.fit.tracker import TrackerConfig
 
@@ -108,9 +107,7 @@ def tracker_config(args: argparse.Namespace):  # type: ignore[no-untyped-def]
     seed = getattr(args, "seed", None)
     if seed is not None and not 0 <= seed < 2**64:
         raise ValueError(f"--seed must be within 0..2**64-1, got {seed}")
-    focal = getattr(args, "focal", None)
-    if focal is not None and not (math.isfinite(focal) and MIN_FOCAL_PX <= focal <= MAX_FOCAL_PX):
-        raise ValueError(f"--focal must be within {MIN_FOCAL_PX:g}..{MAX_FOCAL_PX:g} pixels, got {focal}")
+    check_focal(getattr(args, "focal", None))
     path = getattr(args, "config", None)
     config = load_config(path) if path else TrackerConfig()
     given = {name: getattr(args, name, None) for name in ("particles", "iterations", "threads", "seed")}

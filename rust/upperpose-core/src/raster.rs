@@ -9,6 +9,9 @@ use crate::error::{CoreError, Result};
 use crate::outline::{Ellipse, Outline};
 use nalgebra::Vector2;
 
+/// Largest image side rendered or scored: beyond it one mask takes gigabytes.
+pub const MAX_IMAGE_SIDE: u32 = 8192;
+
 /// A rectangle of the image: columns `x..x + width`, rows `y..y + height`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Roi {
@@ -31,6 +34,15 @@ impl Roi {
 
     /// A region that must be non-empty and lie inside a `width x height` image.
     pub fn inside(x: i64, y: i64, w: i64, h: i64, width: u32, height: u32) -> Result<Self> {
+        for (name, side) in [("width", width), ("height", height)] {
+            if side > MAX_IMAGE_SIDE {
+                return Err(CoreError::OutOfRange {
+                    name,
+                    expected: "at most 8192 pixels",
+                    value: f64::from(side),
+                });
+            }
+        }
         let ok = w > 0
             && h > 0
             && x >= 0

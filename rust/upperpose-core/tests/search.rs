@@ -560,3 +560,13 @@ fn search_config_validation_names_the_setting() {
         assert!(message.starts_with(name), "{message}");
     }
 }
+
+#[test]
+fn images_larger_than_the_limit_are_refused() {
+    use upperpose_core::raster::{Roi, MAX_IMAGE_SIDE};
+    assert!(Roi::inside(0, 0, 8, 8, MAX_IMAGE_SIDE, 16).is_ok());
+    let err = Roi::inside(0, 0, 8, 8, MAX_IMAGE_SIDE + 1, 16).unwrap_err();
+    assert!(err.to_string().starts_with("width must be at most 8192"), "{err}");
+    let err = Roi::inside(0, 0, 8, 8, 16, u32::MAX).unwrap_err();
+    assert!(err.to_string().starts_with("height must be"), "{err}");
+}
