@@ -86,3 +86,23 @@ def test_pose_file_settings_read_back() -> None:
     as_dict = config_to_dict(config)
     assert as_dict["particles"] == 30 and as_dict["features"]["edge_blur"] == 5
     assert as_dict["iterations"] is None
+
+
+@pytest.mark.parametrize(
+    ("field", "value", "message"),
+    [
+        ("lost_frames", -1, "lost_frames must be an integer >= 0, got -1"),
+        ("confirm_frames", 0, "confirm_frames must be an integer >= 1"),
+        ("presence_share", float("nan"), "presence_share must be a finite number >= 0 and <= 1"),
+        ("velocity_damping", 1.5, "velocity_damping must be a finite number >= 0 and <= 1"),
+        ("lost_threshold", 0.0, "lost_threshold must be a finite number > 0"),
+        ("particles", -1, "particles must be an integer >= 1"),
+        ("seed", -1, "seed must be an integer >= 0"),
+        ("seed", 2**64, "seed must be below 2\\*\\*64"),
+        ("startup_width_scales", (1.0, float("inf")), r"startup_width_scales\[1\] must be a finite number > 0"),
+        ("leave_frames", 2.5, "leave_frames must be an integer"),
+    ],
+)
+def test_tracker_config_checks_its_ranges(field: str, value: object, message: str) -> None:
+    with pytest.raises(ValueError, match=message):
+        TrackerConfig(**{field: value})  # type: ignore[arg-type]

@@ -9,6 +9,7 @@ their anatomical ranges until found. See docs/tracker.md.
 
 from __future__ import annotations
 
+import math
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -176,6 +177,40 @@ class TrackerConfig:
     doubt_share: float = 0.25
     doubt_frames: int = 3
     search_options: dict[str, Any] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        def whole(name: str, low: int, value: object) -> None:
+            if isinstance(value, bool) or not isinstance(value, int) or value < low:
+                raise InputError(f"{name} must be an integer >= {low}, got {value!r}")
+
+        def real(name: str, value: object, low: float, high: float = math.inf, open_low: bool = False) -> None:
+            ok = isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
+            if not ok or not (value > low if open_low else value >= low) or value > high:  # type: ignore[operator]
+                bound = (f"> {low:g}" if open_low else f">= {low:g}") + (
+                    "" if high == math.inf else f" and <= {high:g}"
+                )
+                raise InputError(f"{name} must be a finite number {bound}, got {value!r}")
+
+        for name in ("particles", "iterations", "threads"):
+            if getattr(self, name) is not None:
+                whole(name, 1, getattr(self, name))
+        whole("seed", 0, self.seed)
+        if self.seed >= 2**64:
+            raise InputError(f"seed must be below 2**64, got {self.seed}")
+        whole("confirm_frames", 1, self.confirm_frames)
+        for name in ("face_only_frames", "leave_frames", "lost_frames", "doubt_frames"):
+            whole(name, 0, getattr(self, name))
+        for name in ("presence_share", "velocity_damping"):
+            real(name, getattr(self, name), 0.0, 1.0)
+        for name in ("root_window", "unexplained_share", "doubt_share", "velocity_window_gain"):
+            real(name, getattr(self, name), 0.0)
+        for name in ("lost_threshold", "recovery_window_scale", "startup_window_scale"):
+            real(name, getattr(self, name), 0.0, open_low=True)
+        if self.sigma is not None:
+            real("sigma", self.sigma, 0.0, open_low=True)
+        for name in ("startup_width_scales", "startup_head_scales"):
+            for k, v in enumerate(getattr(self, name)):
+                real(f"{name}[{k}]", v, 0.0, open_low=True)
 
     def search_config(self) -> SearchConfig:
         """The `upperpose.SearchConfig` to use."""
