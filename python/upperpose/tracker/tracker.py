@@ -557,7 +557,9 @@ class Tracker:
                 narrow_cost = float(fit.cost)
             # A doubted arm's new pose must also bring its hand nearer its skin point: a lower
             # cost alone took pointing arms (07) off to wrong minima.
-            if float(wide.cost) < narrow_cost and all(_nearer_hand_point(features, wide, fit, a, self.camera, self.body) for a in doubted):
+            if float(wide.cost) < narrow_cost and all(
+                _nearer_hand_point(features, wide, fit, a, self.camera, self.body) for a in doubted
+            ):
                 fit = wide
                 self._corrected = tuple(lost + doubted)
         t2 = time.perf_counter()

@@ -223,7 +223,10 @@ fn reported_joints_are_anatomical_centres_inside_the_solids() {
     // Elbows are the cone's joint; palms 0.14 of the lower arm (0.34 m) short of the cone's end.
     assert!(close(&j[3], &m[3]));
     assert!(close(&j[5], &(m[5] - Vector3::new(0.0, 0.0476, 0.0))));
-    assert!(close(&j[6], &(root + Vector3::new(0.18, -0.20 + 0.29 + 0.34 - 0.0476, 0.0))));
+    assert!(close(
+        &j[6],
+        &(root + Vector3::new(0.18, -0.20 + 0.29 + 0.34 - 0.0476, 0.0))
+    ));
 }
 
 #[test]
