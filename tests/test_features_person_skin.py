@@ -5,11 +5,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from upperpose import Camera, Pose, forward_kinematics
+from upperpose import Camera, Pose
 from upperpose.features import Background, FeatureConfig, FeatureExtractor
 from upperpose.features.person_skin import PersonSkin
 from upperpose.features.skin import skin_mask
 from upperpose.lab.feature_scene import render_scene, textured_background
+from upperpose.model import model_points
 
 CONFIG = FeatureConfig()
 # BGR, light to dark (the generic rule's test tones), and cloth that the generic rule takes.
@@ -73,7 +74,7 @@ def plate() -> np.ndarray:
 
 
 def face_box(pose: Pose) -> tuple[int, int, int, int]:
-    joints = Camera.for_image(640, 480).project(forward_kinematics(pose, (0.0, 0.15, 2.2)))
+    joints = Camera.for_image(640, 480).project(model_points(pose, (0.0, 0.15, 2.2)))
     size = int(0.4 * np.hypot(*(joints[1] - joints[2])))
     return int(joints[0][0] - size / 2), int(joints[0][1] - size / 2), size, size
 

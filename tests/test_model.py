@@ -15,8 +15,8 @@ from conftest import random_pose
 from upperpose.model import penetrates
 
 
-def test_rest_pose_joints_match_hand_computed_values(body: upperpose.BodyModel) -> None:
-    joints = upperpose.forward_kinematics(upperpose.Pose(), [0.1, -0.2, 2.5], body)
+def test_rest_pose_model_points_match_hand_computed_values(body: upperpose.BodyModel) -> None:
+    joints = upperpose.model.model_points(upperpose.Pose(), [0.1, -0.2, 2.5], body)
     expected = np.array(
         [
             [0.1, -0.2 - 0.44, 2.5],
@@ -31,11 +31,33 @@ def test_rest_pose_joints_match_hand_computed_values(body: upperpose.BodyModel) 
     np.testing.assert_allclose(joints, expected, atol=1e-9)
 
 
+def test_rest_pose_anatomical_joints_sit_inside_the_solids(body: upperpose.BodyModel) -> None:
+    root = np.array([0.1, -0.2, 2.5])
+    joints = upperpose.forward_kinematics(upperpose.Pose(), root, body)
+    model = upperpose.model.model_points(upperpose.Pose(), root, body)
+    # Centre of the head 0.25 of the head ellipsoid's half height (0.11 m) above the face's centre.
+    np.testing.assert_allclose(joints[0] - model[0], [0.0, -0.0275, 0.0], atol=1e-9)
+    # Glenohumeral centres 3.5 cm inwards of and 3 cm above the upper-arm cones' tops: inside the
+    # torso's width and within the cone's top radius (the deltoid stands outside them).
+    np.testing.assert_allclose(joints[1] - root, [-0.145, -0.23, 0.0], atol=1e-9)
+    np.testing.assert_allclose(joints[2] - root, [0.145, -0.23, 0.0], atol=1e-9)
+    for k in (1, 2):
+        assert abs(joints[k, 0] - root[0]) < body.torso_half_width
+        assert np.linalg.norm(joints[k] - model[k]) < body.upper_arm_radii[0]
+    np.testing.assert_allclose(joints[3:5], model[3:5], atol=1e-12)
+    # Palm centres 0.14 of the lower arm (4.76 cm) short of the forearm cones' ends.
+    np.testing.assert_allclose(joints[5:] - model[5:], [[0.0, -0.0476, 0.0]] * 2, atol=1e-9)
+    # The solids are placed around the model points: the forearm cone ends there, not at the palm.
+    cone = upperpose.model.solids(upperpose.Pose(), root, body)[4]
+    np.testing.assert_allclose(cone["p1"], model[5], atol=1e-12)
+
+
 def test_abduction_and_elbow_flexion_by_name(body: upperpose.BodyModel) -> None:
     pose = upperpose.Pose(right_z_up=math.pi / 2, left_x_down=math.pi / 2)
     j = upperpose.forward_kinematics(pose, [0.0, 0.0, 3.0], body)
-    np.testing.assert_allclose(j[5], [-0.18 - 0.63, -0.2, 3.0], atol=1e-9)  # right hand out to the side
-    np.testing.assert_allclose(j[6], [0.18, 0.09, 3.0 - 0.34], atol=1e-9)  # left forearm at the camera
+    palm = 0.14 * 0.34  # the palm centre short of the forearm cone's end, along the forearm
+    np.testing.assert_allclose(j[5], [-0.18 - 0.63 + palm, -0.2, 3.0], atol=1e-9)  # right hand out to the side
+    np.testing.assert_allclose(j[6], [0.18, 0.09, 3.0 - 0.34 + palm], atol=1e-9)  # left forearm at the camera
 
 
 def test_pose_accepts_names_dicts_and_arrays() -> None:
@@ -223,7 +245,7 @@ def test_penetrates_flags_the_trunk_and_arms_closer_than_half_their_radii(body: 
     for swing in np.linspace(0.2, 0.9, 36):
         side = {"y_up": float(swing), "x_up": 0.47, "z_up": 0.32, "x_down": 1.61}
         pose = {f"{s}_{k}": v for s in ("right", "left") for k, v in side.items()}
-        j = upperpose.forward_kinematics(pose, root, body)
+        j = upperpose.model.model_points(pose, root, body)
         arms = [[(j[1], j[3], "upper"), (j[3], j[5], "lower")], [(j[2], j[4], "upper"), (j[4], j[6], "lower")]]
         slack = min(
             _segment_gap(a0, a1, b0, b1) - 0.5 * (r[ra] + r[rb]) for a0, a1, ra in arms[0] for b0, b1, rb in arms[1]

@@ -32,7 +32,7 @@ class IdealFeatures:
 
 def ideal(pose: upperpose.Pose, camera: upperpose.Camera) -> IdealFeatures:
     m = upperpose.render_masks(pose, ROOT, camera, 640, 480)
-    j = upperpose.project(camera, upperpose.forward_kinematics(pose, ROOT))
+    j = upperpose.project(camera, upperpose.model.model_points(pose, ROOT))
     edge = np.zeros_like(m["contour"])
     edge[m["contour"] > 0] = 1
     return IdealFeatures(

@@ -28,7 +28,7 @@ from upperpose.lab.synth import (
 from upperpose.lab.synth.appearance import BUILDS, body_for_build
 from upperpose.lab.synth.devset import holdout_set
 from upperpose.lab.synth.scene import EMPTY_SECONDS, WALK_IN_SECONDS
-from upperpose.model import forward_kinematics, penetrates
+from upperpose.model import model_points, penetrates
 
 SMALL = {"width": 320, "height": 240}
 
@@ -67,7 +67,7 @@ def test_claps_bring_the_hands_together_on_every_build() -> None:
     for build in BUILDS:
         body = body_for_build(build)
         angles = motion_angles("clap", 300, 30.0, np.random.default_rng(5), body)
-        gaps = [np.linalg.norm(j[5] - j[6]) for j in (forward_kinematics(a, [0, 0, 2.2], body) for a in angles)]
+        gaps = [np.linalg.norm(j[5] - j[6]) for j in (model_points(a, [0, 0, 2.2], body) for a in angles)]
         forearm = sum(body.lower_arm_radii) / 2
         assert 1.3 * forearm < min(gaps) < 1.7 * forearm, build
 

@@ -114,7 +114,10 @@ def pose_array(pose: PoseLike) -> FloatArray:
 
 
 def forward_kinematics(pose: PoseLike, root: npt.ArrayLike, body: BodyModel | None = None) -> FloatArray:
-    """The seven joints of a posed body, metres in the camera frame.
+    """The seven anatomical joints of a posed body, metres in the camera frame.
+
+    Head = centre of the head, shoulders = glenohumeral centres, elbows = elbow centres,
+    hands = centres of the palms (docs/body-model.md, "Joints").
 
     Args:
         pose: the 13 angles (a `Pose`, a sequence, or a name-to-angle dict).
@@ -125,6 +128,16 @@ def forward_kinematics(pose: PoseLike, root: npt.ArrayLike, body: BodyModel | No
         `(7, 3)` float64 joint positions in `JOINT_NAMES` order.
     """
     return _upperpose.forward_kinematics(pose_array(pose), as_float_array(root, "root", (3,)), body or BodyModel())
+
+
+def model_points(pose: PoseLike, root: npt.ArrayLike, body: BodyModel | None = None) -> FloatArray:
+    """The points the model's solids hang from, `(7, 3)` metres in `JOINT_NAMES` order.
+
+    The head ellipsoid's centre (the centre of the face), the upper-arm cones' tops, the
+    elbows and the forearm cones' ends (the middle of the hand): what the image's head and hand
+    points measure, unlike the anatomical joints of `forward_kinematics`.
+    """
+    return skeleton(pose, root, body)["model_points"]
 
 
 def skeleton(pose: PoseLike, root: npt.ArrayLike, body: BodyModel | None = None) -> dict[str, FloatArray]:
@@ -192,6 +205,7 @@ __all__ = [
     "Pose",
     "as_float_array",
     "forward_kinematics",
+    "model_points",
     "penetrates",
     "pose_array",
     "project",

@@ -28,7 +28,7 @@ from upperpose.exceptions import InputError
 from upperpose.features import FeatureConfig, SkinBlob
 from upperpose.features.faces import FaceBox, FaceDetector, choose_face
 from upperpose.features.points import far_end, principal_direction, unit
-from upperpose.model import BodyModel, Camera, Pose, forward_kinematics, project, render_masks
+from upperpose.model import BodyModel, Camera, Pose, model_points, project, render_masks
 
 # Width of OpenCV's frontal-face box in metres, as found at 1.5x downscale on the dev set's
 # start-up frames (single frames vary by about +-8 %: use a median over several frames).
@@ -147,10 +147,11 @@ def root_from_head(
 ) -> npt.NDArray[np.float64]:
     """The root position that puts the model's head at pixel `head_px` with the root at `depth`.
 
-    The head's offset from the root comes from forward kinematics at `pose` (so a leaning
-    torso is accounted for); the head is back-projected at the root's depth plus that offset.
+    The head's offset from the root comes from the model at `pose` (so a leaning torso is
+    accounted for); the head is back-projected at the root's depth plus that offset. "Head" is
+    the head ellipsoid's centre, on the face (`model_points`), not the anatomical head centre.
     """
-    offset = forward_kinematics(pose, np.zeros(3), body)[HEAD]
+    offset = model_points(pose, np.zeros(3), body)[HEAD]
     u, v = np.asarray(head_px, dtype=np.float64)
     head_z = depth + offset[2]
     if camera.kind == "perspective":
@@ -228,7 +229,7 @@ def measure_body(
     low, high = 1.0 - max_change, 1.0 + max_change
     root = root_from_head(camera, head, depth, pose, body)
     if silhouette is not None:
-        model = project(camera, forward_kinematics(pose, root, body))
+        model = project(camera, model_points(pose, root, body))
         height, width = silhouette.shape
         drop = 0.06 * camera.focal / depth if camera.kind == "perspective" else 0.06 * camera.focal
         rendered = render_masks(pose, root, camera, width, height, body)["silhouette"]
@@ -236,7 +237,7 @@ def measure_body(
         if measured and modelled:
             body = widened(body, float(np.clip(measured / modelled, low, high)))
             root = root_from_head(camera, head, depth, pose, body)
-    model = project(camera, forward_kinematics(pose, root, body))
+    model = project(camera, model_points(pose, root, body))
     ratios = []
     for shoulder, hand, point in ((R_SHOULDER, R_HAND, 1), (L_SHOULDER, L_HAND, 2)):
         got = points[point]

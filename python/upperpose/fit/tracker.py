@@ -48,7 +48,7 @@ from upperpose.fit.startup import (
     widened,
 )
 from upperpose.fit.state import StateMachine
-from upperpose.model import BodyModel, Camera, Pose, forward_kinematics, project, render_masks
+from upperpose.model import BodyModel, Camera, Pose, forward_kinematics, model_points, project, render_masks
 from upperpose.result import NO_PERSON, TrackResult
 
 FloatArray = npt.NDArray[np.float64]
@@ -238,14 +238,20 @@ def torso_cost(fit: FitLike) -> float:
     return float(fit.stage_costs["torso"])
 
 
-def _nearer_hand_point(features: FrameFeatures, new: FitLike, old: FitLike, arm: str) -> bool:
-    """Whether `new` puts the arm's hand nearer its matched (unmerged) skin point than `old`."""
+def _nearer_hand_point(
+    features: FrameFeatures, new: FitLike, old: FitLike, arm: str, camera: Camera, body: BodyModel
+) -> bool:
+    """Whether `new` puts the arm's hand nearer its matched (unmerged) skin point than `old`.
+
+    The model's hand is the forearm cone's end (`model_points`), which the skin point measures.
+    """
     point = features.points[HAND_POINT[arm]]
     if point is None or point.merged:
         return False
     xy = np.asarray(point.xy)
     joint = HAND_JOINT[arm]
-    gap = [float(np.hypot(*(xy - np.asarray(f.joints_2d)[joint]))) for f in (new, old)]
+    hands = [project(camera, model_points(f.pose, f.root, body))[joint] for f in (new, old)]
+    gap = [float(np.hypot(*(xy - hand))) for hand in hands]
     return gap[0] < gap[1]
 
 
@@ -492,7 +498,7 @@ class Tracker:
     def _track(self, frame: npt.NDArray[np.uint8], index: int, interval: float) -> TrackResult:
         t0 = time.perf_counter()
         prediction = self._predict()
-        predicted_joints = project(self.camera, forward_kinematics(prediction, self._root.root, self.body))
+        predicted_joints = project(self.camera, model_points(prediction, self._root.root, self.body))
         for arm, xy in self._followed.items():
             predicted_joints[HAND_JOINT[arm]] = xy
         features = self._extract(frame, predicted_joints, self._labels)
@@ -535,7 +541,9 @@ class Tracker:
                 narrow_cost = float(fit.cost)
             # A doubted arm's new pose must also bring its hand nearer its skin point: a lower
             # cost alone took pointing arms (07) off to wrong minima.
-            if float(wide.cost) < narrow_cost and all(_nearer_hand_point(features, wide, fit, a) for a in doubted):
+            if float(wide.cost) < narrow_cost and all(
+                _nearer_hand_point(features, wide, fit, a, self.camera, self.body) for a in doubted
+            ):
                 fit = wide
                 self._corrected = tuple(lost + doubted)
         t2 = time.perf_counter()
@@ -603,8 +611,12 @@ class Tracker:
         """Takes a fit as this frame's pose: presence, lost detection, status, state for next frame."""
         pose = np.array(fit.pose, dtype=np.float64)
         root = np.array(fit.root, dtype=np.float64)
-        joints_2d = np.array(fit.joints_2d, dtype=np.float64)
+        anatomical_2d = np.array(fit.joints_2d, dtype=np.float64)
         joints_3d = np.array(fit.joints_3d, dtype=np.float64)
+        # Presence, lost hands and the next frame's prediction compare the model with the image's
+        # head and hand points: those measure the solids (`model_points`); the result reports
+        # the anatomical joints.
+        joints_2d = project(self.camera, model_points(pose, root, self.body))
         labels = self._render_labels(pose, root)
         model = labels > 0
         area = int(np.count_nonzero(model))
@@ -663,7 +675,7 @@ class Tracker:
         self._last_root, self._labels = root, labels
         self._last_joints, self._last_cost = joints_2d, float(fit.cost)
         return TrackResult(
-            index, status_now, pose, root, joints_2d, joints_3d, float(fit.cost), searched, lost_parts, timings
+            index, status_now, pose, root, anatomical_2d, joints_3d, float(fit.cost), searched, lost_parts, timings
         )
 
     def _arm_area_px(self, root: FloatArray) -> float:

@@ -14,7 +14,7 @@ import cv2
 import numpy as np
 import numpy.typing as npt
 
-from upperpose.model import Camera, PoseLike, forward_kinematics, render_masks
+from upperpose.model import Camera, PoseLike, model_points, render_masks
 
 SKIN_BGR = (120, 150, 205)
 SHIRT_BGR = (150, 90, 50)
@@ -89,7 +89,7 @@ def render_scene(
     camera = Camera.for_image(width, height)
     masks = render_masks(pose, root, camera, width, height)
     labels = masks["labels"]
-    joints = camera.project(forward_kinematics(pose, root))
+    joints = camera.project(model_points(pose, root))
     frame = background.copy()
     colours = {
         1: shirt,

@@ -118,21 +118,92 @@ pub struct ArmFrames {
     pub lower: Matrix3<f64>,
 }
 
+/// Where the reported (anatomical) joints sit relative to the points the model's solids hang
+/// from, metres; see docs/body-model.md ("Joints") for the figures and their sources.
+///
+/// The solids are fitted to the image's outline and skin; a body's joint centres lie inside
+/// that outline, not on the solids' ends: the glenohumeral centre lies inside the shoulder,
+/// under the deltoid and the torso's top edge; the centre of the head lies above the centre of
+/// the face (which the head ellipsoid is centred on, as the face is what the image locates);
+/// the centre of the palm lies short of the middle of the hand, where the forearm cone ends
+/// (the hand's skin blob is measured at its middle).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Anatomy {
+    /// Centre of the head above the head ellipsoid's centre, along the torso's -Y.
+    pub head_rise: f64,
+    /// Glenohumeral centre inwards of the upper-arm cone's top (towards the mid-line).
+    pub shoulder_in: f64,
+    /// Glenohumeral centre above the upper-arm cone's top, along the torso's -Y.
+    pub shoulder_up: f64,
+    /// Centre of the palm short of the forearm cone's end, along the forearm.
+    pub palm_back: f64,
+}
+
+/// Head centre above the head ellipsoid's centre, as a share of the ellipsoid's half height.
+pub const HEAD_RISE_SHARE: f64 = 0.25;
+/// Glenohumeral centre inwards of the upper-arm cone's top, as a share of its radius there.
+pub const SHOULDER_IN_SHARE: f64 = 0.7;
+/// Glenohumeral centre above the upper-arm cone's top, as a share of its radius there.
+pub const SHOULDER_UP_SHARE: f64 = 0.6;
+/// Palm centre short of the forearm cone's end, as a share of the lower arm's length.
+pub const PALM_BACK_SHARE: f64 = 0.14;
+
+impl Anatomy {
+    /// The offsets for a body: each scales with the dimension it is a share of.
+    pub fn of(body: &BodyModel) -> Anatomy {
+        Anatomy {
+            head_rise: HEAD_RISE_SHARE * body.head_radii[1],
+            shoulder_in: SHOULDER_IN_SHARE * body.upper_arm_radii[0],
+            shoulder_up: SHOULDER_UP_SHARE * body.upper_arm_radii[0],
+            palm_back: PALM_BACK_SHARE * body.lower_arm_length,
+        }
+    }
+}
+
 /// The posed skeleton in the camera frame.
+///
+/// Its fields are the points the solids hang from (`model_points`); `joints` are the
+/// anatomical joint centres of SPEC 9 that the tracker reports.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Skeleton {
     pub root: Vector3<f64>,
     pub torso: Matrix3<f64>,
+    /// Centre of the head ellipsoid (the centre of the face).
     pub head: Vector3<f64>,
     /// Midpoint of the shoulders, where the neck starts.
     pub neck_base: Vector3<f64>,
     pub right: ArmFrames,
     pub left: ArmFrames,
+    pub anatomy: Anatomy,
 }
 
 impl Skeleton {
-    /// The seven joints of SPEC 9 in output order, metres in the camera frame.
+    /// The seven anatomical joints of SPEC 9 in output order, metres in the camera frame:
+    /// centre of the head, glenohumeral centres, elbow centres, centres of the palms.
     pub fn joints(&self) -> [Vector3<f64>; 7] {
+        let a = &self.anatomy;
+        let up = self.torso.column(1).into_owned();
+        let inwards = self.torso.column(0).into_owned();
+        // The right shoulder is at -X of the body frame: inwards is +X for it, -X for the left.
+        let shoulder = |arm: &ArmFrames, side: Side| {
+            arm.shoulder + inwards * (side.mirror() * a.shoulder_in) - up * a.shoulder_up
+        };
+        let palm = |arm: &ArmFrames| arm.hand - arm.lower.column(1).into_owned() * a.palm_back;
+        [
+            self.head - up * a.head_rise,
+            shoulder(&self.right, Side::Right),
+            shoulder(&self.left, Side::Left),
+            self.right.elbow,
+            self.left.elbow,
+            palm(&self.right),
+            palm(&self.left),
+        ]
+    }
+
+    /// The points the solids hang from, in `joints` order: the head ellipsoid's centre (the
+    /// face), the upper-arm cones' tops, the elbows, the forearm cones' ends (the middle of the
+    /// hand). The image's head and hand points are measured against these.
+    pub fn model_points(&self) -> [Vector3<f64>; 7] {
         [
             self.head,
             self.right.shoulder,
@@ -237,5 +308,6 @@ pub fn skeleton_from_pose(pose: &Pose, root: &Vector3<f64>, body: &BodyModel) ->
         neck_base,
         right: arm_frames(pose, Side::Right, root, &torso, body),
         left: arm_frames(pose, Side::Left, root, &torso, body),
+        anatomy: Anatomy::of(body),
     }
 }

@@ -200,3 +200,72 @@ proptest! {
         prop_assert!(close(&s.left.hand, &mirror(&s.right.hand)));
     }
 }
+
+#[test]
+fn reported_joints_are_anatomical_centres_inside_the_solids() {
+    let b = BodyModel::default();
+    let root = Vector3::new(0.1, -0.2, 2.5);
+    let s = skeleton_from_pose(&Pose::default(), &root, &b);
+    let j = s.joints();
+    let m = s.model_points();
+    // Head: 0.25 of the ellipsoid's half height (0.11 m) above its centre (the face's).
+    assert!(close(&j[0], &(m[0] + Vector3::new(0.0, -0.0275, 0.0))));
+    assert!(close(&j[0], &(root + Vector3::new(0.0, -0.4675, 0.0))));
+    // Shoulders: 0.7 and 0.6 of the upper arm's top radius (0.05 m) inwards of and above the
+    // cone's top, i.e. 3.5 cm in and 3 cm up; inside the torso's width (half width 0.16 m) and
+    // inside the deltoid, the ball of the cone's top radius.
+    assert!(close(&j[1], &(root + Vector3::new(-0.145, -0.23, 0.0))));
+    assert!(close(&j[2], &(root + Vector3::new(0.145, -0.23, 0.0))));
+    for k in [1, 2] {
+        assert!((j[k].x - root.x).abs() < b.torso_half_width);
+        assert!((j[k] - m[k]).norm() < b.upper_arm_radii[0]);
+    }
+    // Elbows are the cone's joint; palms 0.14 of the lower arm (0.34 m) short of the cone's end.
+    assert!(close(&j[3], &m[3]));
+    assert!(close(&j[5], &(m[5] - Vector3::new(0.0, 0.0476, 0.0))));
+    assert!(close(
+        &j[6],
+        &(root + Vector3::new(0.18, -0.20 + 0.29 + 0.34 - 0.0476, 0.0))
+    ));
+}
+
+#[test]
+fn anatomical_offsets_turn_with_the_torso_and_the_forearm() {
+    let b = BodyModel::default();
+    let root = Vector3::new(0.0, 0.0, 3.0);
+    // Torso leaning sideways by 90 degrees: "up" for the head is now the body's -Y, which
+    // points along the camera's +X; the forearm bent to point at the camera keeps the palm on it.
+    let pose = pose_with(&[(Dof::TorsoZ, FRAC_PI_2), (Dof::RightXDown, FRAC_PI_2)]);
+    let s = skeleton_from_pose(&pose, &root, &b);
+    let j = s.joints();
+    let m = s.model_points();
+    let up = -s.torso.column(1).into_owned();
+    assert!(close(&(j[0] - m[0]), &(up * 0.0275)));
+    let forearm = (m[5] - m[3]).normalize();
+    assert!(close(&(m[5] - j[5]), &(forearm * 0.0476)));
+    assert!(forearm.z < -0.99, "the bent forearm points at the camera");
+    // The shoulder centre stays 3.5 cm inwards and 3 cm up in the torso's own frame.
+    let local = s.torso.transpose() * (j[1] - m[1]);
+    assert!(close(&local, &Vector3::new(0.035, -0.03, 0.0)));
+}
+
+proptest! {
+    #[test]
+    fn anatomical_joints_keep_their_offsets_in_any_pose(
+        angles in proptest::collection::vec(-1.5f64..1.5, 13),
+        scale in 0.8f64..1.2,
+    ) {
+        let mut b = BodyModel::default();
+        b.lower_arm_length *= scale;
+        b.head_radii[1] *= scale;
+        b.upper_arm_radii[0] *= scale;
+        let pose = Pose::from_slice(&angles).unwrap();
+        let s = skeleton_from_pose(&pose, &Vector3::new(0.0, 0.1, 2.5), &b);
+        let (j, m) = (s.joints(), s.model_points());
+        prop_assert!(((j[0] - m[0]).norm() - 0.25 * b.head_radii[1]).abs() < 1e-9);
+        prop_assert!(((j[5] - m[5]).norm() - 0.14 * b.lower_arm_length).abs() < 1e-9);
+        let r = b.upper_arm_radii[0];
+        prop_assert!(((j[1] - m[1]).norm() - r * (0.7f64.powi(2) + 0.6f64.powi(2)).sqrt()).abs() < 1e-9);
+        prop_assert!((j[3] - m[3]).norm() < 1e-12);
+    }
+}

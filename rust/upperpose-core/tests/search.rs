@@ -544,7 +544,8 @@ fn the_rotation_prior_holds_an_unseen_rotation_and_yields_to_a_seen_one() {
 fn search_config_validation_names_the_setting() {
     use upperpose_core::search::{SearchConfig, MAX_PARTICLES};
     assert!(SearchConfig::default().validate().is_ok());
-    let cases: [(&str, fn(&mut SearchConfig)); 7] = [
+    type Spoil = fn(&mut SearchConfig);
+    let cases: [(&str, Spoil); 7] = [
         ("particles", |c| c.swarm.particles = 0),
         ("particles", |c| c.swarm.particles = MAX_PARTICLES + 1),
         ("iterations", |c| c.swarm.iterations = usize::MAX),
@@ -566,7 +567,10 @@ fn images_larger_than_the_limit_are_refused() {
     use upperpose_core::raster::{Roi, MAX_IMAGE_SIDE};
     assert!(Roi::inside(0, 0, 8, 8, MAX_IMAGE_SIDE, 16).is_ok());
     let err = Roi::inside(0, 0, 8, 8, MAX_IMAGE_SIDE + 1, 16).unwrap_err();
-    assert!(err.to_string().starts_with("width must be at most 8192"), "{err}");
+    assert!(
+        err.to_string().starts_with("width must be at most 8192"),
+        "{err}"
+    );
     let err = Roi::inside(0, 0, 8, 8, 16, u32::MAX).unwrap_err();
     assert!(err.to_string().starts_with("height must be"), "{err}");
 }

@@ -60,7 +60,10 @@ pub fn forward_kinematics_py<'py>(
 ///     body: body dimensions.
 ///
 /// Returns:
-///     dict with `joints` `(7, 3)`, `root` and `neck_base` `(3,)`, and `(3, 3)` rotation
+///     dict with `joints` `(7, 3)` (the anatomical joints, as `forward_kinematics`),
+///     `model_points` `(7, 3)` (the points the solids hang from, same order: the head
+///     ellipsoid's centre, the upper-arm cones' tops, the elbows, the forearm cones' ends),
+///     `root` and `neck_base` `(3,)`, and `(3, 3)` rotation
 ///     matrices `torso`, `right_upper`, `right_lower`, `left_upper`, `left_lower` whose columns
 ///     are the frame's axes in the camera frame (each limb runs along its own +Y).
 #[pyfunction(name = "skeleton")]
@@ -73,6 +76,7 @@ pub fn skeleton_py<'py>(
     let s = posed(&pose, &root, body)?;
     let d = PyDict::new(py);
     d.set_item("joints", array_from_points(py, &s.joints())?)?;
+    d.set_item("model_points", array_from_points(py, &s.model_points())?)?;
     d.set_item("root", PyArray1::from_slice(py, s.root.as_slice()))?;
     d.set_item(
         "neck_base",

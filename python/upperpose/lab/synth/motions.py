@@ -17,7 +17,7 @@ from typing import cast
 import numpy as np
 import numpy.typing as npt
 
-from upperpose.model import ANGLE_NAMES, BodyModel, Pose, forward_kinematics, penetrates
+from upperpose.model import ANGLE_NAMES, BodyModel, Pose, model_points, penetrates
 
 FloatArray = npt.NDArray[np.float64]
 Key = dict[str, float]  # arm settings: y_up, x_up, z_up, x_down (left arm mirrors right)
@@ -148,7 +148,7 @@ def _cross(rng: np.random.Generator, body: BodyModel) -> Keys:
 
 def _hand_gap(arm: Key, body: BodyModel) -> float:
     """Distance between the hands, metres, with both arms at the mirrored setting `arm`."""
-    joints = forward_kinematics(_pose(arm, arm), ARMS_CHECK_ROOT, body)
+    joints = model_points(_pose(arm, arm), ARMS_CHECK_ROOT, body)
     return float(np.linalg.norm(joints[5] - joints[6]))  # right and left hand
 
 

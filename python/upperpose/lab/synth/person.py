@@ -3,8 +3,11 @@
 The body is deliberately not the tracker's model: limbs are tapered capsules with round
 joints, the trunk a stack of elliptic slabs with sloping shoulders, a waist and hips running
 out of the frame, the head an ellipsoid with ears, hair and a photographed face, the hands flat
-ellipsoids with a thumb. Only the joints are shared: every solid hangs off
-`upperpose.skeleton(pose, root, body)`, so the ground-truth joints are exact.
+ellipsoids with a thumb. Only the skeleton is shared: every solid hangs off
+the tracker model's points (`upperpose.skeleton(pose, root, body)["model_points"]`), and the
+ground truth is that skeleton's anatomical joints, exact by construction: the centre of the
+head above the centre of the face (on which the head ellipsoid is centred), glenohumeral centres
+inside the shoulder's ball, palm centres `PALM_TO_WRIST` beyond the wrist.
 """
 
 from __future__ import annotations
@@ -22,8 +25,10 @@ from upperpose.model import BodyModel, Pose, skeleton
 
 # Surface kinds; a pixel's kind decides its material.
 SHIRT, SKIN, HEAD, HAIR = "shirt", "skin", "head", "hair"
-HAND_HALF_LENGTH = 0.085  # palm centre to fingertips, metres
-WRIST_OFFSET = 0.07  # palm centre to wrist, metres
+HAND_HALF_LENGTH = 0.085  # middle of the hand (the forearm cone's end) to the fingertips, metres
+# Wrist to palm centre as a share of the lower arm's length: 4.6 cm on the default body (the
+# validation set's convention; half of de Leva's wrist-to-third-metacarpale length is 4.3 cm).
+PALM_TO_WRIST = 0.135
 SLEEVE_PAD = 0.012  # how far cloth stands off the arm, metres
 SHORT_SLEEVE = 0.5  # share of the upper arm a short sleeve covers
 
@@ -105,7 +110,7 @@ def _trunk(b: _Builder, sk: dict[str, FloatArray], body: BodyModel) -> None:
 
 def _head(b: _Builder, sk: dict[str, FloatArray], body: BodyModel, rng: np.random.Generator) -> None:
     d = body.as_dict()
-    axes, centre = sk["torso"], sk["joints"][0]
+    axes, centre = sk["torso"], sk["model_points"][0]
     radii = np.array(d["head_radii"]) * np.array([1.1, 1.02, 1.05])
     neck = sk["neck_base"]
     skin = b.surface(SKIN, centre, axes)
@@ -124,13 +129,15 @@ def _head(b: _Builder, sk: dict[str, FloatArray], body: BodyModel, rng: np.rando
 
 def _arm(b: _Builder, sk: dict[str, FloatArray], body: BodyModel, side: str, sleeves: str) -> None:
     d = body.as_dict()
-    j = sk["joints"]
+    j = sk["model_points"]
     shoulder, elbow, hand = (j[1], j[3], j[5]) if side == "right" else (j[2], j[4], j[6])
     upper, lower = sk[f"{side}_upper"], sk[f"{side}_lower"]
     ru, rl = d["upper_arm_radii"], d["lower_arm_radii"]
     sleeve = b.surface(SHIRT, shoulder, upper)
     skin = b.surface(SKIN, elbow, lower)
-    wrist = hand - lower[:, 1] * WRIST_OFFSET
+    # `hand` is the middle of the hand; the wrist lies short of the palm centre (the joint).
+    palm = sk["joints"][5 if side == "right" else 6]
+    wrist = palm - lower[:, 1] * PALM_TO_WRIST * d["lower_arm_length"]
     pad = SLEEVE_PAD
     b.solids.append(Ellipsoid(shoulder, upper, np.full(3, ru[0] + pad), sleeve))
     if sleeves == "short":
@@ -153,7 +160,7 @@ def _arm(b: _Builder, sk: dict[str, FloatArray], body: BodyModel, side: str, sle
                 wrist - lower[:, 1] * 0.02, wrist, lower, (rl[1] * 0.8, rl[1] * 0.7), (rl[1] * 0.8, rl[1] * 0.7), skin
             )
         )
-    # Flat hand centred on the palm centre (the hand joint), palm facing the frame's -Z in A-pose.
+    # Flat hand centred on the middle of the hand, palm facing the frame's -Z in A-pose.
     b.solids.append(Ellipsoid(hand, lower, np.array([0.043, HAND_HALF_LENGTH, 0.02]), skin))
     outward = -1.0 if side == "right" else 1.0
     thumb = hand - lower[:, 1] * 0.025 + lower[:, 0] * outward * 0.04 - lower[:, 2] * 0.01

@@ -498,7 +498,7 @@ impl StageSetup<'_> {
         }
         let (joint, _) = self.stage.skin_joint();
         let skin = self.skin_target.and_then(|image| {
-            let model = req.camera.project(&skel.joints()[joint as usize])?;
+            let model = req.camera.project(&skel.model_points()[joint as usize])?;
             Some(SkinPair { model, image })
         });
         Some(evaluate(
