@@ -8,6 +8,10 @@ import sys
 import time
 import warnings
 from pathlib import Path
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from upperpose.fit.pipeline import VideoTracking
 
 NAME = "track"
 OPTIMIZERS = ("apso", "pso", "simplex", "apsopf")
@@ -64,6 +68,11 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("-o", "--output", required=True, metavar="OUT.json", help="pose file to write (SPEC 9)")
     p.add_argument("--csv", metavar="OUT.csv", help="also write one CSV row per frame")
     p.add_argument("--overlay", metavar="OUT.mp4", help="also write the video with the fitted model drawn over it")
+    p.add_argument(
+        "--bvh",
+        metavar="OUT.bvh",
+        help="also write the angles as BVH on the person's skeleton (for Blender)",
+    )
     add_search_arguments(p)
     p.add_argument("--no-skip", action="store_true", help="search every part every frame (ignore the motion flags)")
     add_smoothing_argument(p)
@@ -168,6 +177,18 @@ class Progress:
             sys.stderr.flush()
 
 
+def provenance(run_: VideoTracking) -> dict[str, object]:
+    """Pose-file fields that say how the poses were made: version, camera and body."""
+    from upperpose import __version__
+
+    camera = run_.camera
+    return {
+        "upperpose_version": __version__,
+        "camera": {"model": camera.kind, "focal": camera.focal, "cx": camera.cx, "cy": camera.cy},
+        "body": dict(run_.tracker.body.as_dict()),
+    }
+
+
 def run(args: argparse.Namespace) -> int:
     """Tracks the video; writes the outputs atomically, also after Ctrl-C."""
     from upperpose.exceptions import UpperposeError
@@ -175,6 +196,7 @@ def run(args: argparse.Namespace) -> int:
     from upperpose.fit.pipeline import VideoTracking
     from upperpose.fit.settings import config_to_dict
     from upperpose.fit.smoothing import PoseSmoother
+    from upperpose.io.bvh import write_bvh
     from upperpose.io.files import interrupts_held
     from upperpose.io.output import PoseRecorder
     from upperpose.io.overlay import OverlayWriter, draw_overlay
@@ -185,7 +207,7 @@ def run(args: argparse.Namespace) -> int:
         raise ValueError("give either a VIDEO or --camera N")
     source = args.camera if args.camera is not None else parse_source(args.video)
     name = f"camera {source}" if isinstance(source, int) else str(source)
-    check_writable(args.output, args.csv, args.overlay)
+    check_writable(args.output, args.csv, args.overlay, args.bvh)
     config = tracker_config(args)
     lag, smoothing = smoothing_of(args)
     started = time.perf_counter()
@@ -230,9 +252,12 @@ def run(args: argparse.Namespace) -> int:
             run_.close()
             run_time = time.perf_counter() - started
             with recorder:
+                recorder.extra.update(provenance(run_))
                 written = [recorder.write_json(args.output, run_time)]
                 if args.csv:
                     written.append(recorder.write_csv(args.csv))
+                if args.bvh and recorder.first_posed is not None:
+                    written.append(write_bvh(args.bvh, recorder.records(), run_.tracker.body, run_.fps))
             if overlay is not None:
                 kept = overlay.close()
                 if kept:
