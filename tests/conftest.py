@@ -24,3 +24,24 @@ def random_pose(rng: np.random.Generator) -> upperpose.Pose:
     """A pose uniform in the anatomical ranges."""
     limits = upperpose.joint_limits("anatomical")
     return upperpose.Pose([rng.uniform(r[0][0], r[-1][1]) for r in limits])
+
+
+@pytest.fixture(autouse=True)
+def pose_files_follow_the_schema(monkeypatch: pytest.MonkeyPatch):  # type: ignore[no-untyped-def]
+    """Every pose file any test writes is checked against the shipped JSON Schema."""
+    import json
+
+    jsonschema = pytest.importorskip("jsonschema")
+    import upperpose.io.output as output
+    import upperpose.io.posefile as posefile
+
+    validator = jsonschema.Draft202012Validator(posefile.schema())
+    write = posefile.write_pose_lines
+
+    def checked(path, head, lines):  # type: ignore[no-untyped-def]
+        written = write(path, head, lines)
+        validator.validate(json.loads(written.read_text(encoding="utf-8")))
+        return written
+
+    monkeypatch.setattr(posefile, "write_pose_lines", checked)
+    monkeypatch.setattr(output, "write_pose_lines", checked)

@@ -12,6 +12,7 @@ import json
 import math
 import os
 from collections.abc import Iterable
+from importlib import resources
 from pathlib import Path
 from typing import Any
 
@@ -118,6 +119,13 @@ def validate_poses(data: object) -> dict[str, Any]:
         seen.add(f["frame"])
     out["frames"] = sorted(checked, key=lambda f: f["frame"])
     return out
+
+
+def schema() -> dict[str, Any]:
+    """The JSON Schema (draft 2020-12) of the pose file, shipped in the package."""
+    text = resources.files("upperpose.io").joinpath("schemas/poses-1.schema.json").read_text(encoding="utf-8")
+    loaded: dict[str, Any] = json.loads(text)
+    return loaded
 
 
 def load_poses(path: str | os.PathLike[str]) -> dict[str, Any]:
