@@ -16,7 +16,19 @@ from upperpose import __version__
 from upperpose.exceptions import UpperposeError
 
 # Subcommand modules; each defines NAME, HELP, add_arguments(parser) and run(args) -> int.
-COMMAND_MODULES = ("render", "features", "synth", "eval", "track", "config", "schema", "demo", "bench", "compare")
+COMMAND_MODULES = (
+    "render",
+    "features",
+    "synth",
+    "eval",
+    "track",
+    "config",
+    "schema",
+    "plot",
+    "demo",
+    "bench",
+    "compare",
+)
 
 
 def build_parser() -> argparse.ArgumentParser:
