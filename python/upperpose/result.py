@@ -31,6 +31,7 @@ class TrackResult:
         searched: the parts searched this frame.
         lost_parts: the arms that are lost.
         timings: wall seconds per stage: "features", "startup", "search", "other".
+        confidence: `(7,)` per joint in [0, 1] (`upperpose.fit.confidence`); or None.
     """
 
     frame: int
@@ -43,6 +44,7 @@ class TrackResult:
     searched: tuple[str, ...] = ()
     lost_parts: tuple[str, ...] = ()
     timings: dict[str, float] = field(default_factory=dict)
+    confidence: FloatArray | None = None
 
     def to_record(self) -> dict[str, Any]:
         """The frame as a SPEC 9 "frames" entry (plus "root")."""
@@ -59,4 +61,7 @@ class TrackResult:
             "angles": [float(v) for v in self.pose] if has_pose and self.pose is not None else None,
             "cost": float(self.cost) if has_pose and self.cost is not None and np.isfinite(self.cost) else None,
             "root": [float(v) for v in self.root] if has_pose and self.root is not None else None,
+            "confidence": [round(float(v), 3) for v in self.confidence]
+            if has_pose and self.confidence is not None
+            else None,
         }

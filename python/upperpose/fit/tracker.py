@@ -22,6 +22,7 @@ import numpy.typing as npt
 from upperpose._upperpose import joint_limits
 from upperpose.exceptions import InputError
 from upperpose.features import Background, FeatureConfig, FeatureExtractor, FrameFeatures
+from upperpose.fit.confidence import joint_confidence
 from upperpose.fit.recovery import (
     ARMS,
     HAND_JOINT,
@@ -674,8 +675,19 @@ class Tracker:
         self._previous_pose, self._pose = previous, pose
         self._last_root, self._labels = root, labels
         self._last_joints, self._last_cost = joints_2d, float(fit.cost)
+        confidence = joint_confidence(anatomical_2d, joints_2d, features, lost_parts, features.sil.shape[:2])
         return TrackResult(
-            index, status_now, pose, root, anatomical_2d, joints_3d, float(fit.cost), searched, lost_parts, timings
+            index,
+            status_now,
+            pose,
+            root,
+            anatomical_2d,
+            joints_3d,
+            float(fit.cost),
+            searched,
+            lost_parts,
+            timings,
+            confidence,
         )
 
     def _arm_area_px(self, root: FloatArray) -> float:

@@ -25,11 +25,11 @@ from upperpose.result import LOST, TRACKED, TrackResult
 
 
 def csv_header() -> list[str]:
-    """Column names: frame, status, cost, 7 x (x, y) pixels, 7 x (X, Y, Z) metres, 13 angles."""
+    """Column names: frame, status, cost, 7 x (x, y) pixels, 7 x (X, Y, Z) metres, 13 angles, 7 confidences."""
     cols = ["frame", "status", "cost"]
     cols += [f"{j}_{a}" for j in JOINT_NAMES for a in ("x", "y")]
     cols += [f"{j}_{a}" for j in JOINT_NAMES for a in ("X", "Y", "Z")]
-    return cols + list(ANGLE_NAMES)
+    return cols + list(ANGLE_NAMES) + [f"{j}_confidence" for j in JOINT_NAMES]
 
 
 class PoseRecorder:
@@ -136,6 +136,8 @@ def csv_row(r: dict[str, Any]) -> list[Any]:
     for key, dims in (("joints_2d", 2), ("joints_3d", 3)):
         row += [f"{v:.6g}" for p in r[key] for v in p] if has_pose and r[key] is not None else [""] * (7 * dims)
     row += [f"{v:.6g}" for v in r["angles"]] if has_pose and r["angles"] is not None else [""] * len(ANGLE_NAMES)
+    confidence = r.get("confidence")
+    row += [f"{v:.3g}" for v in confidence] if has_pose and confidence is not None else [""] * len(JOINT_NAMES)
     return row
 
 
