@@ -11,7 +11,18 @@ import pytest
 from tracker_helpers import TruthFitter, camera_of, clip, truth
 from upperpose.features.frame import POINT_ABSENT, POINT_FOUND, POINT_MERGED
 from upperpose.fit import Tracker, TrackerConfig
-from upperpose.fit.confidence import ELBOW_CAP, LOST, SHOULDER, UNSUPPORTED, joint_confidence, support
+from upperpose.fit.confidence import (
+    ELBOW,
+    ELBOW_SUPPORTED,
+    HAND_SHARES,
+    HEAD_SHARES,
+    LOST,
+    SHOULDER,
+    UNSUPPORTED_HAND,
+    joint_confidence,
+    share,
+    support,
+)
 from upperpose.io.video import VideoReader
 
 # Head, shoulders, elbows, hands of a 640x480 frame (model points equal to the joints here).
@@ -28,25 +39,27 @@ def features(points: list[tuple[float, float] | None], merged: tuple[bool, bool,
     return SimpleNamespace(head=made[0], points=made, blobs=[], point_status=lambda: status, points_array=lambda: xy)
 
 
-def test_support_falls_with_the_gap() -> None:
+def test_support_falls_with_the_gap_and_maps_to_measured_shares() -> None:
     assert support(0.0, 120.0) == 1.0
     assert support(30.0, 120.0) == pytest.approx(np.exp(-1.0))
-    assert support(None, 120.0) == UNSUPPORTED
-    assert support(60.0, 120.0) < support(30.0, 120.0)
+    assert support(None, 120.0) is None
+    assert support(60.0, 120.0) < support(30.0, 120.0)  # type: ignore[operator]
+    shares = [share(v, HAND_SHARES) for v in (1.0, 0.85, 0.7, 0.1)]
+    assert shares == sorted(shares, reverse=True) and shares[0] == HAND_SHARES[0][1]
 
 
 def test_confidence_follows_the_evidence() -> None:
     f = features([(320, 100), (230, 340), (440, 340)])  # right hand on its blob, left hand 30 px off
     c = joint_confidence(JOINTS, JOINTS, f, (), (480, 640))
-    assert c[0] == 1.0 and c[1] == c[2] == SHOULDER
-    assert c[5] == 1.0 and c[3] == ELBOW_CAP
-    assert c[6] == pytest.approx(support(30.0, 120.0)) and c[4] == pytest.approx(c[6])
+    assert c[0] == share(1.0, HEAD_SHARES) and c[1] == c[2] == SHOULDER
+    assert c[5] == share(1.0, HAND_SHARES) and c[3] == ELBOW_SUPPORTED
+    assert c[6] == share(float(np.exp(-1.0)), HAND_SHARES) and c[4] == ELBOW
+    assert c[6] < c[5]
     lost = joint_confidence(JOINTS, JOINTS, f, ("left_arm",), (480, 640))
-    assert lost[4] == lost[6] == LOST and lost[5] == 1.0
-    merged = joint_confidence(
-        JOINTS, JOINTS, features([(320, 100), (230, 340), None], (False, True, False)), (), (480, 640)
-    )
-    assert merged[5] == merged[6] == UNSUPPORTED
+    assert lost[4] == lost[6] == LOST and lost[5] == c[5]
+    hands_together = features([(320, 100), (230, 340), None], (False, True, False))
+    merged = joint_confidence(JOINTS, JOINTS, hands_together, (), (480, 640))
+    assert merged[5] == merged[6] == UNSUPPORTED_HAND
 
 
 def test_joints_outside_the_image_have_none() -> None:
@@ -54,7 +67,7 @@ def test_joints_outside_the_image_have_none() -> None:
     off[6] = [700.0, 340.0]
     off[0] = [320.0, -3.0]
     c = joint_confidence(off, JOINTS, features([(320, 100), (230, 340), (410, 340)]), (), (480, 640))
-    assert c[6] == 0.0 and c[0] == 0.0 and c[5] == 1.0
+    assert c[6] == 0.0 and c[0] == 0.0 and c[5] == share(1.0, HAND_SHARES)
 
 
 def test_tracked_frames_carry_confidences_in_range() -> None:
