@@ -15,7 +15,11 @@ if TYPE_CHECKING:
 
 NAME = "track"
 OPTIMIZERS = ("apso", "pso", "simplex", "apsopf")
-HELP = "track the upper body in a video: poses as JSON (SPEC 9), optionally CSV and an overlay video"
+HELP = (
+    "track the upper body in a video or from a camera: poses as JSON (SPEC 9), optionally CSV, BVH and an "
+    "overlay video. Start-up needs a static camera and a visible frontal face; standing in the A-pose "
+    "starts it fastest, a clean plate (--background) makes it most accurate"
+)
 
 
 def add_search_arguments(p: argparse.ArgumentParser) -> None:
@@ -269,14 +273,14 @@ def run(args: argparse.Namespace) -> int:
     frames = recorder.frames
     if frames == 0 or recorder.count(NO_PERSON) == frames:
         raise UpperposeError(
-            f"no person found in {name} ({frames} frames): start-up needs a frontal face and the "
-            f"A-pose (arms straight, 30-40 degrees out); wrote an all-'no_person' {args.output}"
+            f"no person found in {name} ({frames} frames): start-up needs a visible frontal face; "
+            f"wrote an all-'no_person' {args.output}"
         )
     if recorder.count(TRACKED, LOST) == 0:
         raise UpperposeError(
-            f"tracking never started in {name} ({frames} frames): a face was seen but start-up needs "
-            f"the A-pose (arms straight, 30-40 degrees out) for {config.confirm_frames} frames in a row; "
-            f"wrote {args.output} without a pose"
+            f"tracking never started in {name} ({frames} frames): a face was seen but never held still "
+            f"long enough (the A-pose for {config.confirm_frames} frames in a row, or a steady face for "
+            f"{config.face_only_frames}); wrote {args.output} without a pose"
         )
     if not args.quiet:
         tracked, lost = recorder.count(TRACKED), recorder.count(LOST)
