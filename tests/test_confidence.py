@@ -23,6 +23,7 @@ from upperpose.fit.confidence import (
     share,
     support,
 )
+from upperpose.fit.recovery import hand_distances
 from upperpose.io.video import VideoReader
 
 # Head, shoulders, elbows, hands of a 640x480 frame (model points equal to the joints here).
@@ -50,15 +51,15 @@ def test_support_falls_with_the_gap_and_maps_to_measured_shares() -> None:
 
 def test_confidence_follows_the_evidence() -> None:
     f = features([(320, 100), (230, 340), (440, 340)])  # right hand on its blob, left hand 30 px off
-    c = joint_confidence(JOINTS, JOINTS, f, (), (480, 640))
+    c = joint_confidence(JOINTS, JOINTS, f, hand_distances(JOINTS, f), (), (480, 640))
     assert c[0] == share(1.0, HEAD_SHARES) and c[1] == c[2] == SHOULDER
     assert c[5] == share(1.0, HAND_SHARES) and c[3] == ELBOW_SUPPORTED
     assert c[6] == share(float(np.exp(-1.0)), HAND_SHARES) and c[4] == ELBOW
     assert c[6] < c[5]
-    lost = joint_confidence(JOINTS, JOINTS, f, ("left_arm",), (480, 640))
+    lost = joint_confidence(JOINTS, JOINTS, f, hand_distances(JOINTS, f), ("left_arm",), (480, 640))
     assert lost[4] == lost[6] == LOST and lost[5] == c[5]
     hands_together = features([(320, 100), (230, 340), None], (False, True, False))
-    merged = joint_confidence(JOINTS, JOINTS, hands_together, (), (480, 640))
+    merged = joint_confidence(JOINTS, JOINTS, hands_together, hand_distances(JOINTS, hands_together), (), (480, 640))
     assert merged[5] == merged[6] == UNSUPPORTED_HAND
 
 
@@ -66,7 +67,8 @@ def test_joints_outside_the_image_have_none() -> None:
     off = JOINTS.copy()
     off[6] = [700.0, 340.0]
     off[0] = [320.0, -3.0]
-    c = joint_confidence(off, JOINTS, features([(320, 100), (230, 340), (410, 340)]), (), (480, 640))
+    f = features([(320, 100), (230, 340), (410, 340)])
+    c = joint_confidence(off, JOINTS, f, hand_distances(JOINTS, f), (), (480, 640))
     assert c[6] == 0.0 and c[0] == 0.0 and c[5] == share(1.0, HAND_SHARES)
 
 

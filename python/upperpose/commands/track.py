@@ -224,7 +224,7 @@ def run(args: argparse.Namespace) -> int:
         run_.reader.width,
         run_.reader.height,
         run_.fps,
-        source=f"camera {source}" if isinstance(source, int) else Path(str(source)).name,
+        source=name if isinstance(source, int) else Path(name).name,
         seed=run_.tracker.search_config.seed,
         clean_plate=run_.clean_plate,
         settings=config_to_dict(config),

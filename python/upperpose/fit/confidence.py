@@ -17,7 +17,7 @@ import numpy.typing as npt
 
 from upperpose.features import FrameFeatures
 from upperpose.features.frame import POINT_FOUND
-from upperpose.fit.recovery import ARMS, HAND_JOINT, HAND_POINT, hand_distances
+from upperpose.fit.recovery import ARMS, HAND_JOINT, HAND_POINT
 
 FloatArray = npt.NDArray[np.float64]
 GAP_SCALE = 0.25
@@ -50,6 +50,7 @@ def joint_confidence(
     joints_2d: FloatArray,
     model_2d: FloatArray,
     features: FrameFeatures,
+    gaps: dict[str, float | None],
     lost_parts: tuple[str, ...],
     size: tuple[int, int],
 ) -> FloatArray:
@@ -59,6 +60,7 @@ def joint_confidence(
         joints_2d: the reported (anatomical) joints, pixels.
         model_2d: the model points the image's skin points measure, pixels.
         features: this frame's features (skin points).
+        gaps: each hand's `recovery.hand_distances` from `model_2d` (the tracker has them).
         lost_parts: the arms that are lost.
         size: the image's (height, width).
     """
@@ -68,7 +70,6 @@ def joint_confidence(
     head_gap = None if head is None or head.merged else float(np.hypot(*(np.asarray(head.xy) - model_2d[0])))
     head_support = support(head_gap, shoulder_px)
     out[HEAD_JOINT] = HEAD_UNSUPPORTED if head_support is None else share(head_support, HEAD_SHARES)
-    gaps = hand_distances(model_2d, features)
     points = features.point_status()
     for arm in ARMS:
         hand, elbow = HAND_JOINT[arm], ELBOW_JOINT[arm]

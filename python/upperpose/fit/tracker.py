@@ -675,7 +675,7 @@ class Tracker:
         self._previous_pose, self._pose = previous, pose
         self._last_root, self._labels = root, labels
         self._last_joints, self._last_cost = joints_2d, float(fit.cost)
-        confidence = joint_confidence(anatomical_2d, joints_2d, features, lost_parts, features.sil.shape[:2])
+        confidence = joint_confidence(anatomical_2d, joints_2d, features, distances, lost_parts, features.sil.shape[:2])
         return TrackResult(
             index,
             status_now,
