@@ -22,6 +22,7 @@ COMMAND_MODULES = (
     "synth",
     "eval",
     "track",
+    "batch",
     "config",
     "schema",
     "plot",
