@@ -12,7 +12,7 @@ from pathlib import Path
 from typing import Any
 
 from upperpose.batch.inputs import find_videos
-from upperpose.batch.job import FAILED, NOT_RUN, Job, Options, finished_row, row
+from upperpose.batch.job import DONE, FAILED, NO_POSE, NOT_RUN, Job, Options, finished_row, row
 from upperpose.batch.progress import BatchProgress, frame_count
 from upperpose.batch.summary import write_summary
 from upperpose.exceptions import InputError
@@ -114,7 +114,9 @@ def run(
     config = config or TrackerConfig()
     if config.threads is None:
         config = dataclasses.replace(config, threads=1)
-    options = Options(config, None if background is None else str(background), focal, smooth, csv, bvh, overlay)
+    # Absolute, for workers whose current folder is another (Ray).
+    plate = None if background is None else str(Path(background).resolve())
+    options = Options(config, plate, focal, smooth, csv, bvh, overlay)
     work = [Job(video, options) for video in videos]
     rows: dict[int, dict[str, Any]] = {}
     for index, job in enumerate(work):
@@ -133,7 +135,7 @@ def run(
     except KeyboardInterrupt:
         interrupted = True
     with interrupts_held():
-        ordered = [rows.get(i) or row(job, NOT_RUN) for i, job in enumerate(work)]
+        ordered = [rows.get(i) or _unrecorded(job, out) for i, job in enumerate(work)]
         wall = time.perf_counter() - started
         head = {
             "backend": backend,
@@ -146,6 +148,15 @@ def run(
     if interrupted:
         raise BatchInterrupted(result)
     return result
+
+
+def _unrecorded(job: Job, out: Path) -> dict[str, Any]:
+    """The row of a video whose result never came back (Ctrl-C): finished meanwhile, or not run."""
+    # A worker may finish writing after the interrupt (its last file is written whole first).
+    found = finished_row(job, out)
+    if found is None:
+        return row(job, NOT_RUN)
+    return {**found, "status": DONE if found["frames_with_pose"] else NO_POSE}
 
 
 def _backend(

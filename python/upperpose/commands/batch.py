@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from upperpose.commands.track import add_search_arguments, add_smoothing_argument
+from upperpose.commands.track import add_tracking_arguments
 
 NAME = "batch"
 HELP = (
@@ -41,9 +41,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         help="one clean plate for every video (default: a background.png beside each video, else estimated)",
     )
     p.add_argument("--focal", type=float, metavar="PX", help="focal length in pixels (default: each video's width)")
-    add_search_arguments(p)
-    p.add_argument("--no-skip", action="store_true", help="search every part every frame (ignore the motion flags)")
-    add_smoothing_argument(p)
+    add_tracking_arguments(p)
     p.add_argument("--quiet", action="store_true", help="no progress")
 
 
@@ -72,10 +70,12 @@ def run(args: argparse.Namespace) -> int:
             progress=not args.quiet,
         )
     except BatchInterrupted as stop:
-        done = sum(r["status"] not in ("not_run", SKIPPED) for r in stop.result.rows)
+        got = stop.result
+        finished = len(got.rows) - got.count("not_run") - got.failed
         print(
-            f"upperpose batch: interrupted; {done} videos finished this run, "
-            f"{stop.result.count('not_run')} not run (nothing partial was written; rerun to complete them)",
+            f"upperpose batch: interrupted; of {len(got.rows)} videos {finished} are finished (their files whole), "
+            f"{got.failed} failed and {got.count('not_run')} not run (no file): rerun the same command to complete "
+            "them",
             file=sys.stderr,
         )
         return 130

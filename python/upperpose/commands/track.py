@@ -72,10 +72,15 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         metavar="OUT.bvh",
         help="also write the angles as BVH on the person's skeleton (for Blender)",
     )
+    add_tracking_arguments(p)
+    p.add_argument("--quiet", action="store_true", help="no progress bar or summary")
+
+
+def add_tracking_arguments(p: argparse.ArgumentParser) -> None:
+    """The search options, --no-skip and --no-smooth: how track and batch track a video."""
     add_search_arguments(p)
     p.add_argument("--no-skip", action="store_true", help="search every part every frame (ignore the motion flags)")
     add_smoothing_argument(p)
-    p.add_argument("--quiet", action="store_true", help="no progress bar or summary")
 
 
 def add_smoothing_argument(p: argparse.ArgumentParser) -> None:
