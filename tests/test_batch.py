@@ -230,7 +230,9 @@ def test_ray_backend_gives_the_local_backends_pose_files(
     # Every Ray process this test starts listens on the loopback interface only (set before Ray loads).
     monkeypatch.setenv("RAY_ENABLE_WINDOWS_OR_OSX_CLUSTER", "0")
     ray = pytest.importorskip("ray")
+    sigterm = signal.getsignal(signal.SIGTERM)
     ray.init(num_cpus=2, include_dashboard=False, log_to_driver=False)
+    signal.signal(signal.SIGTERM, sigterm)  # ray.init takes SIGTERM over for good
     try:
         assert {n["NodeManagerAddress"] for n in ray.nodes()} == {"127.0.0.1"}
         shared, collected = tmp_path / "shared", tmp_path / "collected"

@@ -10,7 +10,9 @@ the driver writes them (pose file last, each whole or not at all). Ctrl-C cancel
 
 from __future__ import annotations
 
+import signal
 import tempfile
+import threading
 from collections.abc import Generator, Sequence
 from pathlib import Path
 from typing import Any
@@ -54,12 +56,18 @@ def run_ray(
         raise InputError("--backend ray needs Ray: pip install 'upperpose[ray]'") from None
     started = not ray.is_initialized()
     if started:
+        # ray.init replaces the SIGTERM handler for good; SIGTERM must stay what it was (the command
+        # line's: stop like Ctrl-C, so that the tasks are cancelled and the summary written).
+        main = threading.current_thread() is threading.main_thread()
+        sigterm = signal.getsignal(signal.SIGTERM) if main else None
         try:
             ray.init(address=address, include_dashboard=False, log_to_driver=False)
         except (ConnectionError, RuntimeError, ValueError) as err:
-            raise UpperposeError(
-                f"cannot reach the Ray cluster at {address or 'this machine'}: {one_line(err)}"
-            ) from None
+            where = address or "this machine"
+            raise UpperposeError(f"cannot reach the Ray cluster at {where}: {one_line(err)}") from None
+        finally:
+            if sigterm is not None:
+                signal.signal(signal.SIGTERM, sigterm)
     task = ray.remote(num_cpus=1)(track_task)
     target = None if collect else str(out_dir.resolve())
     pending = {task.remote(job, target): (index, job) for index, job in work}
