@@ -20,6 +20,7 @@ STAGES = {
     "upperpose.features": 2,
     "upperpose.fit": 3,
     "upperpose": 4,  # the package root: the public API, above the product's stages
+    "upperpose.batch": 4,  # many videos at once, through the API's stages
     "upperpose.lab": 5,
     "upperpose.commands": 6,
     "upperpose.cli": 6,

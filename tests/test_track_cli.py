@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 import upperpose.fit.tracker as tracker_module
-from tracker_helpers import TruthFitter, clip, truth
+from tracker_helpers import TruthFitter, clip, clip_frames, one_line_error, truth, write_video
 from upperpose.cli import main
 from upperpose.io.output import PoseRecorder, csv_header
 from upperpose.io.posefile import load_poses
@@ -33,22 +33,6 @@ def track(args: list[str], capsys: pytest.CaptureFixture[str]) -> tuple[int, str
     code = main(["track", *args])
     out, err = capsys.readouterr()
     return code, out, err
-
-
-def one_line_error(err: str) -> str:
-    lines = [line for line in err.splitlines() if line.strip()]
-    assert len(lines) == 1, err
-    assert "Traceback" not in err
-    return lines[0]
-
-
-def write_video(path: Path, frames: list[np.ndarray], fps: float = 15.0) -> Path:
-    h, w = frames[0].shape[:2]
-    writer = cv2.VideoWriter(str(path), cv2.VideoWriter_fourcc(*"mp4v"), fps, (w, h))
-    for f in frames:
-        writer.write(f)
-    writer.release()
-    return path
 
 
 # -- output -----------------------------------------------------------------------------------
@@ -345,13 +329,6 @@ class FakeCamera:
 
     def release(self) -> None:
         pass
-
-
-def clip_frames(folder: Path) -> list[np.ndarray]:
-    reader = VideoReader(folder / "video.mp4")
-    frames = list(reader)
-    reader.close()
-    return frames
 
 
 @pytest.mark.parametrize("how", [["0"], ["--camera", "0"]])

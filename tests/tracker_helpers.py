@@ -13,10 +13,12 @@ import tempfile
 from pathlib import Path
 from typing import Any
 
+import cv2
 import numpy as np
 
 import upperpose
 from upperpose.fit import PARTS, StaticFit
+from upperpose.io.video import VideoReader
 from upperpose.lab.synth import ClipConfig, write_clip
 
 CLIP = ClipConfig(motion="wave_right", frames=50, fps=15.0, width=320, height=240, depth=2.0, empty_start=True, seed=5)
@@ -72,3 +74,27 @@ class TruthFitter:
 def truth(folder: Path) -> dict[str, Any]:
     """The clip's gt.json."""
     return json.loads((folder / "gt.json").read_text())  # type: ignore[no-any-return]
+
+
+def clip_frames(folder: Path) -> list[np.ndarray]:
+    """The clip's decoded frames."""
+    with VideoReader(folder / "video.mp4") as reader:
+        return list(reader)
+
+
+def write_video(path: Path, frames: list[np.ndarray], fps: float = 15.0) -> Path:
+    """Writes BGR frames as an mp4v video."""
+    h, w = frames[0].shape[:2]
+    writer = cv2.VideoWriter(str(path), cv2.VideoWriter_fourcc(*"mp4v"), fps, (w, h))
+    for f in frames:
+        writer.write(f)
+    writer.release()
+    return path
+
+
+def one_line_error(err: str) -> str:
+    """The only line of a command's stderr, which must hold no traceback."""
+    lines = [line for line in err.splitlines() if line.strip()]
+    assert len(lines) == 1, err
+    assert "Traceback" not in err
+    return lines[0]

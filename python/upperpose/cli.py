@@ -13,7 +13,7 @@ from collections.abc import Sequence
 import cv2
 
 from upperpose import __version__
-from upperpose.exceptions import UpperposeError
+from upperpose.exceptions import UpperposeError, one_line
 
 # Subcommand modules; each defines NAME, HELP, add_arguments(parser) and run(args) -> int.
 COMMAND_MODULES = (
@@ -22,6 +22,7 @@ COMMAND_MODULES = (
     "synth",
     "eval",
     "track",
+    "batch",
     "config",
     "schema",
     "plot",
@@ -93,12 +94,6 @@ def _run(args: argparse.Namespace) -> int:
 
 def _interrupt(signum: int, frame: object) -> None:
     raise KeyboardInterrupt
-
-
-def one_line(err: BaseException) -> str:
-    """The error's message on one line (OpenCV's span several)."""
-    text = " ".join(str(err).split())
-    return text or type(err).__name__
 
 
 if __name__ == "__main__":

@@ -15,4 +15,10 @@ class VideoError(UpperposeError):
     """A video or image cannot be read or written."""
 
 
-__all__ = ["InputError", "SearchError", "UpperposeError", "VideoError"]
+def one_line(err: BaseException) -> str:
+    """The error's message on one line (OpenCV's span several)."""
+    text = " ".join(str(err).split())
+    return text or type(err).__name__
+
+
+__all__ = ["InputError", "SearchError", "UpperposeError", "VideoError", "one_line"]

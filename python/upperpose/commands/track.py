@@ -6,12 +6,7 @@ import argparse
 import math
 import sys
 import time
-import warnings
 from pathlib import Path
-from typing import TYPE_CHECKING
-
-if TYPE_CHECKING:
-    from upperpose.fit.pipeline import VideoTracking
 
 NAME = "track"
 OPTIMIZERS = ("apso", "pso", "simplex", "apsopf")
@@ -77,10 +72,15 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         metavar="OUT.bvh",
         help="also write the angles as BVH on the person's skeleton (for Blender)",
     )
+    add_tracking_arguments(p)
+    p.add_argument("--quiet", action="store_true", help="no progress bar or summary")
+
+
+def add_tracking_arguments(p: argparse.ArgumentParser) -> None:
+    """The search options, --no-skip and --no-smooth: how track and batch track a video."""
     add_search_arguments(p)
     p.add_argument("--no-skip", action="store_true", help="search every part every frame (ignore the motion flags)")
     add_smoothing_argument(p)
-    p.add_argument("--quiet", action="store_true", help="no progress bar or summary")
 
 
 def add_smoothing_argument(p: argparse.ArgumentParser) -> None:
@@ -95,11 +95,9 @@ def add_smoothing_argument(p: argparse.ArgumentParser) -> None:
 
 def smoothing_of(args: argparse.Namespace) -> tuple[int, dict[str, object] | None]:
     """The smoother's lag and the pose file's description of it."""
-    from upperpose.fit.smoothing import DEFAULT_LAG
+    from upperpose.fit.outputs import smoothing_record
 
-    if getattr(args, "no_smooth", False):
-        return 0, None
-    return DEFAULT_LAG, {"method": "savitzky-golay, quadratic, centred, in angle space", "lag_frames": DEFAULT_LAG}
+    return smoothing_record(not getattr(args, "no_smooth", False))
 
 
 def tracker_config(args: argparse.Namespace):  # type: ignore[no-untyped-def]
@@ -181,31 +179,11 @@ class Progress:
             sys.stderr.flush()
 
 
-def provenance(run_: VideoTracking) -> dict[str, object]:
-    """Pose-file fields that say how the poses were made: version, camera and body."""
-    from upperpose import __version__
-
-    camera = run_.camera
-    return {
-        "upperpose_version": __version__,
-        "camera": {"model": camera.kind, "focal": camera.focal, "cx": camera.cx, "cy": camera.cy},
-        "body": dict(run_.tracker.body.as_dict()),
-    }
-
-
 def run(args: argparse.Namespace) -> int:
     """Tracks the video; writes the outputs atomically, also after Ctrl-C."""
     from upperpose.exceptions import UpperposeError
-    from upperpose.features import CleanPlateWarning
-    from upperpose.fit.pipeline import VideoTracking
-    from upperpose.fit.settings import config_to_dict
-    from upperpose.fit.smoothing import PoseSmoother
-    from upperpose.io.bvh import write_bvh
-    from upperpose.io.files import interrupts_held
-    from upperpose.io.output import PoseRecorder
-    from upperpose.io.overlay import OverlayWriter, draw_overlay
-    from upperpose.io.video import Frame, parse_source
-    from upperpose.result import LOST, NO_PERSON, TRACKED, TrackResult
+    from upperpose.fit.outputs import OutputPaths, track_to_files
+    from upperpose.io.video import parse_source
 
     if (args.video is None) == (args.camera is None):
         raise ValueError("give either a VIDEO or --camera N")
@@ -213,84 +191,60 @@ def run(args: argparse.Namespace) -> int:
     name = f"camera {source}" if isinstance(source, int) else str(source)
     check_writable(args.output, args.csv, args.overlay, args.bvh)
     config = tracker_config(args)
-    lag, smoothing = smoothing_of(args)
-    started = time.perf_counter()
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always", CleanPlateWarning)
-        run_ = VideoTracking(source, args.background, focal=args.focal, config=config)
-    if caught and not args.quiet:
-        print(f"upperpose track: warning: {caught[0].message}", file=sys.stderr)
-    recorder = PoseRecorder(
-        run_.reader.width,
-        run_.reader.height,
-        run_.fps,
-        source=name if isinstance(source, int) else Path(name).name,
-        seed=run_.tracker.search_config.seed,
-        clean_plate=run_.clean_plate,
-        settings=config_to_dict(config),
-        smoothing=smoothing,
+    paths = OutputPaths(
+        Path(args.output),
+        csv=Path(args.csv) if args.csv else None,
+        bvh=Path(args.bvh) if args.bvh else None,
+        overlay=Path(args.overlay) if args.overlay else None,
     )
-    overlay = OverlayWriter(args.overlay, run_.reader.width, run_.reader.height, run_.fps) if args.overlay else None
-    progress = Progress(run_.reader.frame_count, not args.quiet)
-    smoother: PoseSmoother[Frame | None] = PoseSmoother(run_.camera, lag)
+    progress = Progress(None, not args.quiet)
 
-    def take(result: TrackResult, frame: Frame | None) -> None:
-        recorder.add(result)
-        if overlay is not None and frame is not None:
-            overlay.write(draw_overlay(frame, result, run_.camera, run_.tracker.body))
-        progress.update(recorder.frames, result.status)
+    def warn(message: str) -> None:
+        if not args.quiet:
+            print(f"upperpose track: warning: {message}", file=sys.stderr)
 
-    interrupted = False
+    def show(frames: int, total: int | None, status: str) -> None:
+        progress.total = total
+        progress.update(frames, status)
+
     try:
-        for frame, result in run_.frames():
-            for done, shown in smoother.push(result, run_.tracker.body, frame if overlay is not None else None):
-                take(done, shown)
-    except KeyboardInterrupt:
-        interrupted = True
+        done = track_to_files(
+            source,
+            paths,
+            config=config,
+            background=args.background,
+            focal=args.focal,
+            smooth=not args.no_smooth,
+            keep_partial=True,
+            on_frame=show,
+            on_warning=warn,
+        )
     finally:
-        # A second Ctrl-C or a SIGTERM while the outputs are written waits until they are whole.
-        with interrupts_held():
-            for done, shown in smoother.flush():
-                take(done, shown)
-            progress.finish()
-            run_.close()
-            run_time = time.perf_counter() - started
-            with recorder:
-                recorder.extra.update(provenance(run_))
-                written = [recorder.write_json(args.output, run_time)]
-                if args.csv:
-                    written.append(recorder.write_csv(args.csv))
-                if args.bvh and recorder.first_posed is not None:
-                    written.append(write_bvh(args.bvh, recorder.records(), run_.tracker.body, run_.fps))
-            if overlay is not None:
-                kept = overlay.close()
-                if kept:
-                    written.append(kept)
-    names = ", ".join(str(p) for p in written)
-    if interrupted:
-        print(f"upperpose track: interrupted after {recorder.frames} frames; wrote them to {names}", file=sys.stderr)
+        progress.finish()
+    names = ", ".join(str(p) for p in done.written)
+    if done.interrupted:
+        print(f"upperpose track: interrupted after {done.frames} frames; wrote them to {names}", file=sys.stderr)
         return 130
-    frames = recorder.frames
-    if frames == 0 or recorder.count(NO_PERSON) == frames:
+    frames = done.frames
+    if frames == 0 or done.no_person == frames:
         raise UpperposeError(
             f"no person found in {name} ({frames} frames): start-up needs a visible frontal face; "
             f"wrote an all-'no_person' {args.output}"
         )
-    if recorder.count(TRACKED, LOST) == 0:
+    if done.posed == 0:
         raise UpperposeError(
             f"tracking never started in {name} ({frames} frames): a face was seen but never held still "
             f"long enough (the A-pose for {config.confirm_frames} frames in a row, or a steady face for "
             f"{config.face_only_frames}); wrote {args.output} without a pose"
         )
     if not args.quiet:
-        tracked, lost = recorder.count(TRACKED), recorder.count(LOST)
-        first = recorder.first_posed or 0
+        first = done.first_posed or 0
         after = frames - first
         print(
-            f"Tracked {name}: {frames} frames in {run_time:.1f} s ({frames / run_time:.1f} fps); "
-            f"start-up took {first} frames; of the {after} frames after it {tracked} were tracked "
-            f"({100 * tracked / max(after, 1):.1f} %) and {lost} lost; "
-            f"background from {'the clean plate' if run_.clean_plate else 'the video (estimated)'}; "
+            f"Tracked {name}: {frames} frames in {done.run_time_s:.1f} s ({frames / done.run_time_s:.1f} fps); "
+            f"start-up took {first} frames; of the {after} frames after it {done.tracked} were tracked "
+            f"({100 * done.tracked / max(after, 1):.1f} %) and {done.lost} lost; "
+            f"background from {'the clean plate' if done.clean_plate else 'the video (estimated)'}; "
             f"wrote {names}."
         )
     return 0

@@ -1,0 +1,200 @@
+"""Tracking one video into its files: the pose file (SPEC 9), optionally a CSV, BVH and overlay.
+
+Shared by `upperpose track` and `upperpose batch`. The other files are written before the pose
+file, so a pose file on disk means its run finished writing everything it was asked for. After
+Ctrl-C (or an error) the caller chooses: keep the frames so far (`track`: an interrupted live
+session is still worth its poses) or write nothing (`batch`: a partial pose file must not look
+like a finished video to a rerun, which redoes the video instead).
+"""
+
+from __future__ import annotations
+
+import os
+import time
+import warnings
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+
+from upperpose._upperpose import __version__
+from upperpose.features import CleanPlateWarning
+from upperpose.fit.pipeline import BackgroundLike, VideoTracking
+from upperpose.fit.settings import config_to_dict
+from upperpose.fit.smoothing import DEFAULT_LAG, PoseSmoother
+from upperpose.fit.tracker import TrackerConfig
+from upperpose.io.bvh import write_bvh
+from upperpose.io.files import interrupts_held
+from upperpose.io.output import PoseRecorder
+from upperpose.io.overlay import OverlayWriter, draw_overlay
+from upperpose.io.video import Frame
+from upperpose.result import LOST, NO_PERSON, TRACKED, TrackResult
+
+
+@dataclass(frozen=True)
+class OutputPaths:
+    """Where one video's outputs go: the pose file, and the optional CSV, BVH and overlay video."""
+
+    poses: Path
+    csv: Path | None = None
+    bvh: Path | None = None
+    overlay: Path | None = None
+
+    def given(self) -> list[Path]:
+        """The paths asked for, the pose file first."""
+        return [p for p in (self.poses, self.csv, self.bvh, self.overlay) if p is not None]
+
+
+@dataclass(frozen=True)
+class Tracked:
+    """How a tracked video went: frame counts by status, run time and the files written."""
+
+    frames: int
+    tracked: int
+    lost: int
+    no_person: int
+    first_posed: int | None
+    run_time_s: float
+    clean_plate: bool
+    written: tuple[Path, ...]
+    interrupted: bool
+
+    @property
+    def posed(self) -> int:
+        """Frames with a pose ("tracked" or "lost")."""
+        return self.tracked + self.lost
+
+
+def smoothing_record(smooth: bool) -> tuple[int, dict[str, object] | None]:
+    """The smoother's lag and the pose file's description of it (None: not smoothed)."""
+    if not smooth:
+        return 0, None
+    return DEFAULT_LAG, {"method": "savitzky-golay, quadratic, centred, in angle space", "lag_frames": DEFAULT_LAG}
+
+
+def provenance(run_: VideoTracking) -> dict[str, object]:
+    """Pose-file fields that say how the poses were made: version, camera and body."""
+    camera = run_.camera
+    return {
+        "upperpose_version": __version__,
+        "camera": {"model": camera.kind, "focal": camera.focal, "cx": camera.cx, "cy": camera.cy},
+        "body": dict(run_.tracker.body.as_dict()),
+    }
+
+
+def track_to_files(
+    source: str | os.PathLike[str] | int,
+    paths: OutputPaths,
+    *,
+    config: TrackerConfig,
+    background: BackgroundLike = None,
+    focal: float | None = None,
+    smooth: bool = True,
+    keep_partial: bool = False,
+    on_frame: Callable[[int, int | None, str], None] | None = None,
+    on_warning: Callable[[str], None] | None = None,
+) -> Tracked:
+    """Tracks `source` and writes its outputs, each whole or not at all.
+
+    Args:
+        source: a video file, stream URL or camera index.
+        paths: the outputs to write.
+        config: tracker settings (recorded in the pose file with the seed).
+        background: the clean plate; see `VideoTracking`.
+        focal: focal length in pixels (default: the image width).
+        smooth: smooth the written poses (`upperpose.fit.smoothing`).
+        keep_partial: after Ctrl-C or an error, still write the frames so far (else nothing).
+        on_frame: called after each written frame with the frames done, the video's frame count
+            (None when unknown: a live source) and the frame's status.
+        on_warning: told when the background is estimated from the video (no clean plate).
+
+    Returns:
+        The counts; `interrupted` is True only when `keep_partial` kept an interrupted run.
+
+    Raises:
+        KeyboardInterrupt: Ctrl-C (or SIGTERM) and not `keep_partial`; nothing was written.
+        VideoError, ValueError, OSError: see `VideoTracking`, or an output cannot be written.
+    """
+    lag, smoothing = smoothing_record(smooth)
+    started = time.perf_counter()
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", CleanPlateWarning)
+        run_ = VideoTracking(source, background, focal=focal, config=config)
+    if caught and on_warning is not None:
+        on_warning(str(caught[0].message))
+    name = f"camera {source}" if isinstance(source, int) else Path(source).name
+    recorder = PoseRecorder(
+        run_.reader.width,
+        run_.reader.height,
+        run_.fps,
+        source=name,
+        seed=run_.tracker.search_config.seed,
+        clean_plate=run_.clean_plate,
+        settings=config_to_dict(config),
+        smoothing=smoothing,
+    )
+    size = (run_.reader.width, run_.reader.height)
+    overlay = OverlayWriter(paths.overlay, *size, run_.fps) if paths.overlay is not None else None
+    smoother: PoseSmoother[Frame | None] = PoseSmoother(run_.camera, lag)
+
+    def take(result: TrackResult, frame: Frame | None) -> None:
+        recorder.add(result)
+        if overlay is not None and frame is not None:
+            overlay.write(draw_overlay(frame, result, run_.camera, run_.tracker.body))
+        if on_frame is not None:
+            on_frame(recorder.frames, run_.reader.frame_count, result.status)
+
+    finished = interrupted = False
+    written: list[Path] = []
+    run_time = 0.0
+    try:
+        for frame, result in run_.frames():
+            for done, shown in smoother.push(result, run_.tracker.body, frame if overlay is not None else None):
+                take(done, shown)
+        finished = True
+    except KeyboardInterrupt:
+        if not keep_partial:
+            raise
+        interrupted = True
+    finally:
+        # A second Ctrl-C or a SIGTERM while the outputs are written waits until they are whole.
+        with interrupts_held():
+            run_.close()
+            if finished or keep_partial:
+                for done, shown in smoother.flush():
+                    take(done, shown)
+                run_time = time.perf_counter() - started
+                written = _write(recorder, overlay, paths, run_, run_time)
+            elif overlay is not None:
+                overlay.close(keep=False)
+            recorder.close()
+    return Tracked(
+        frames=recorder.frames,
+        tracked=recorder.count(TRACKED),
+        lost=recorder.count(LOST),
+        no_person=recorder.count(NO_PERSON),
+        first_posed=recorder.first_posed,
+        run_time_s=run_time,
+        clean_plate=run_.clean_plate,
+        written=tuple(written),
+        interrupted=interrupted,
+    )
+
+
+def _write(
+    recorder: PoseRecorder, overlay: OverlayWriter | None, paths: OutputPaths, run_: VideoTracking, run_time: float
+) -> list[Path]:
+    """Writes the outputs, the pose file last; returns them, the pose file first."""
+    others: list[Path] = []
+    if paths.csv is not None:
+        others.append(recorder.write_csv(paths.csv))
+    if paths.bvh is not None and recorder.first_posed is not None:
+        others.append(write_bvh(paths.bvh, recorder.records(), run_.tracker.body, run_.fps))
+    if overlay is not None:
+        kept = overlay.close()
+        if kept:
+            others.append(kept)
+    recorder.extra.update(provenance(run_))
+    return [recorder.write_json(paths.poses, run_time), *others]
+
+
+__all__ = ["OutputPaths", "Tracked", "provenance", "smoothing_record", "track_to_files"]
