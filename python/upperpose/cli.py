@@ -55,6 +55,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     """
     parser = build_parser()
     args = parser.parse_args(argv)
+    # OpenCV logs its own warnings (an unknown file extension, a failed backend) on stderr; the
+    # command line reports each failure itself on one line.
+    if not os.environ.get("UPPERPOSE_DEBUG"):
+        cv2.utils.logging.setLogLevel(cv2.utils.logging.LOG_LEVEL_SILENT)
     if not getattr(args, "run", None):
         parser.print_help()
         return 2

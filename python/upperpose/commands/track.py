@@ -218,8 +218,16 @@ def run(args: argparse.Namespace) -> int:
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", CleanPlateWarning)
         run_ = VideoTracking(source, args.background, focal=args.focal, config=config)
-    if caught and not args.quiet:
-        print(f"upperpose track: warning: {caught[0].message}", file=sys.stderr)
+    notes = [str(w.message) for w in caught[:1]]
+    if run_.reader.fps_warning:
+        notes.append(run_.reader.fps_warning)
+    for note in [] if args.quiet else notes:
+        print(f"upperpose track: warning: {note}", file=sys.stderr)
+    try:  # an overlay that cannot be opened (an unknown extension) ends the run before any record
+        overlay = OverlayWriter(args.overlay, run_.reader.width, run_.reader.height, run_.fps) if args.overlay else None
+    except BaseException:
+        run_.close()
+        raise
     recorder = PoseRecorder(
         run_.reader.width,
         run_.reader.height,
@@ -230,7 +238,6 @@ def run(args: argparse.Namespace) -> int:
         settings=config_to_dict(config),
         smoothing=smoothing,
     )
-    overlay = OverlayWriter(args.overlay, run_.reader.width, run_.reader.height, run_.fps) if args.overlay else None
     progress = Progress(run_.reader.frame_count, not args.quiet)
     smoother: PoseSmoother[Frame | None] = PoseSmoother(run_.camera, lag)
 
