@@ -221,6 +221,7 @@ class TrackerConfig:
         for name in ("startup_width_scales", "startup_head_scales"):
             for k, v in enumerate(getattr(self, name)):
                 real(f"{name}[{k}]", v, 0.0, open_low=True)
+        self.search_config()  # the search's own ranges (at most 10,000 particles, ...) live in the core
 
     def search_config(self) -> SearchConfig:
         """The `upperpose.SearchConfig` to use."""

@@ -68,6 +68,24 @@ where
         })
 }
 
+/// A keyword argument converted to `T`, its name in the error: a wrong type stays a
+/// `TypeError`; a wrong length or a number beyond `T` (pyo3's ValueError, OverflowError) is an
+/// `InputError`.
+pub fn named_arg<'py, T>(name: &str, value: &Bound<'py, PyAny>) -> PyResult<T>
+where
+    T: for<'a> FromPyObject<'a, 'py, Error = PyErr>,
+{
+    value.extract::<T>().map_err(|err| {
+        let py = value.py();
+        let message = format!("{name}: {}", err.value(py));
+        if err.is_instance_of::<PyTypeError>(py) {
+            PyTypeError::new_err(message)
+        } else {
+            errors::input_error(message)
+        }
+    })
+}
+
 /// `int_arg` for an optional argument.
 pub fn opt_int_arg<T>(
     name: &str,

@@ -5,7 +5,7 @@ use pyo3::prelude::*;
 use upperpose_core::raster::MAX_IMAGE_SIDE;
 use upperpose_core::{BodyModel, Camera, Projection};
 
-use crate::convert::{int_arg, points_from_array};
+use crate::convert::{int_arg, named_arg, points_from_array};
 use crate::errors::IntoPy;
 
 /// Body dimensions in metres (adult averages by default; see docs/body-model.md).
@@ -24,9 +24,9 @@ macro_rules! body_fields {
             #[new]
             #[pyo3(signature = (*, $($field = None),*))]
             #[allow(clippy::too_many_arguments)] // one keyword argument per dimension
-            fn new($($field: Option<$ty>),*) -> PyResult<Self> {
+            fn new($($field: Option<Bound<'_, PyAny>>),*) -> PyResult<Self> {
                 let mut inner = BodyModel::default();
-                $(if let Some(v) = $field { inner.$field = v; })*
+                $(if let Some(v) = $field { inner.$field = named_arg::<$ty>(stringify!($field), &v)?; })*
                 inner.validate().py()?;
                 Ok(PyBodyModel { inner })
             }
