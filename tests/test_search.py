@@ -197,7 +197,8 @@ def test_fit_releases_the_gil(camera: upperpose.Camera, body: upperpose.BodyMode
         ({"search": ["head"]}, 'unknown stage "head"'),
         ({"window_scale": 0.0}, "window_scale must be > 0"),
         ({"frame_interval": float("nan")}, "frame_interval must be finite"),
-        ({"root": [0.0, 0.0, -1.0]}, r"root\[2\] must be > 0"),
+        ({"root": [0.0, 0.0, -1.0]}, r"root\[2\] must be within 0.1..=1000 metres in front of the camera"),
+        ({"root": [0.0, 0.0, 1e-12]}, r"root\[2\] must be within 0.1..=1000 metres .*, got 1e-12"),
         ({"width": 512}, r"sil must have shape \(480, 8\)"),
     ],
 )

@@ -167,7 +167,7 @@ class SearchConfig:
         limits: _Limits = "anatomical",
         non_penetration: bool = True,
         threads: int | None = None,
-        seed: int = 0,
+        seed: int | None = None,
         root_window: float | None = None,
         initial_root_window: float | None = None,
         row_steps: tuple[int, int, int] | None = None,

@@ -56,6 +56,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     """
     parser = build_parser()
     args = parser.parse_args(argv)
+    # OpenCV and FFmpeg log their own warnings and errors (an unknown file extension, "moov atom
+    # not found") on stderr; the command line reports each failure itself on one line.
+    if not os.environ.get("UPPERPOSE_DEBUG"):
+        cv2.utils.logging.setLogLevel(cv2.utils.logging.LOG_LEVEL_SILENT)
+        os.environ.setdefault("OPENCV_FFMPEG_LOGLEVEL", "-8")  # FFmpeg's own (AV_LOG_QUIET), read on first use
     if not getattr(args, "run", None):
         parser.print_help()
         return 2

@@ -7,6 +7,7 @@ coordinates at pixel centres.
 
 from __future__ import annotations
 
+import numbers
 from collections.abc import Iterable, Mapping
 from typing import Union
 
@@ -58,6 +59,8 @@ class Pose:
         for key, v in named.items():
             if key not in _ANGLE_INDEX:
                 raise InputError(f"unknown angle {key!r}; angles are {', '.join(ANGLE_NAMES)}")
+            if not isinstance(v, numbers.Real):  # float('1.0') would take a string silently
+                raise TypeError(f"angle {key} must be a number, got {type(v).__name__}")
             values[_ANGLE_INDEX[key]] = float(v)
         values = as_float_array(values, "angles", (13,))
         values.setflags(write=False)
@@ -155,6 +158,22 @@ def penetrates(pose: PoseLike, root: npt.ArrayLike, body: BodyModel | None = Non
     return _upperpose.penetrates(pose_array(pose), as_float_array(root, "root", (3,)), body or BodyModel())
 
 
+def check_camera_fits(camera: Camera, width: int, height: int) -> None:
+    """Refuses a camera made for another image size: its principal point off the middle half.
+
+    A calibrated camera's principal point lies near the image centre; one far from it means
+    the camera belongs to another resolution, and every pose would be off by the difference.
+
+    Raises:
+        InputError: naming both sizes.
+    """
+    if abs(camera.cx - (width - 1) / 2) > width / 4 or abs(camera.cy - (height - 1) / 2) > height / 4:
+        raise InputError(
+            f"the camera's principal point ({camera.cx:g}, {camera.cy:g}) is far from the centre of the "
+            f"{width}x{height} images: a camera for another image size (make it with Camera.for_image)"
+        )
+
+
 def project(camera: Camera, points: npt.ArrayLike) -> FloatArray:
     """Projects `(N, 3)` points in metres to `(N, 2)` pixels (NaN where a pinhole cannot see)."""
     return camera.project(as_float_array(points, "points", (None, 3)))
@@ -204,6 +223,7 @@ __all__ = [
     "Camera",
     "Pose",
     "as_float_array",
+    "check_camera_fits",
     "forward_kinematics",
     "model_points",
     "penetrates",

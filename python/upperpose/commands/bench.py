@@ -37,7 +37,7 @@ def measure(
     from upperpose.result import LOST, TRACKED
 
     args.no_skip = not skip
-    run_ = VideoTracking(video, background, focal=focal, config=tracker_config(args))
+    run_ = VideoTracking(video, background, focal=focal, config=tracker_config(args), keep_times=True)
     recorder = PoseRecorder(run_.reader.width, run_.reader.height, run_.fps)
     statuses, output = [], []
     start = time.perf_counter()

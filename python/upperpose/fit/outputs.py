@@ -105,7 +105,8 @@ def track_to_files(
         keep_partial: after Ctrl-C or an error, still write the frames so far (else nothing).
         on_frame: called after each written frame with the frames done, the video's frame count
             (None when unknown: a live source) and the frame's status.
-        on_warning: told when the background is estimated from the video (no clean plate).
+        on_warning: told when the background is estimated from the video (no clean plate) and
+            when the video's frame rate is absurd.
 
     Returns:
         The counts; `interrupted` is True only when `keep_partial` kept an interrupted run.
@@ -119,8 +120,15 @@ def track_to_files(
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", CleanPlateWarning)
         run_ = VideoTracking(source, background, focal=focal, config=config)
-    if caught and on_warning is not None:
-        on_warning(str(caught[0].message))
+    notes = [str(w.message) for w in caught[:1]] + ([run_.reader.fps_warning] if run_.reader.fps_warning else [])
+    for note in notes if on_warning is not None else []:
+        on_warning(note)
+    size = (run_.reader.width, run_.reader.height)
+    try:  # an overlay that cannot be opened (an unknown extension) ends the run before any record
+        overlay = OverlayWriter(paths.overlay, *size, run_.fps) if paths.overlay is not None else None
+    except BaseException:
+        run_.close()
+        raise
     name = f"camera {source}" if isinstance(source, int) else Path(source).name
     recorder = PoseRecorder(
         run_.reader.width,
@@ -132,8 +140,6 @@ def track_to_files(
         settings=config_to_dict(config),
         smoothing=smoothing,
     )
-    size = (run_.reader.width, run_.reader.height)
-    overlay = OverlayWriter(paths.overlay, *size, run_.fps) if paths.overlay is not None else None
     smoother: PoseSmoother[Frame | None] = PoseSmoother(run_.camera, lag)
 
     def take(result: TrackResult, frame: Frame | None) -> None:

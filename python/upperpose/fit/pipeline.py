@@ -86,6 +86,8 @@ class VideoTracking:
         config: tracker settings.
         body: body dimensions to start the start-up measurement from.
         fitter: the search (tests inject a double); `upperpose.fit_frame` when None.
+        keep_times: record each frame's stage times in `times` (`upperpose bench`); off by
+            default, since the lists grow with the video.
 
     Raises:
         VideoError: missing, unreadable, corrupt or empty video; unreadable background.
@@ -102,6 +104,7 @@ class VideoTracking:
         config: TrackerConfig | None = None,
         body: BodyModel | None = None,
         fitter: Fitter | None = None,
+        keep_times: bool = False,
     ) -> None:
         if focal is not None and not (np.isfinite(focal) and focal > 0):
             raise InputError(f"focal length must be a positive number of pixels, got {focal}")
@@ -117,7 +120,7 @@ class VideoTracking:
         except BaseException:
             self.reader.close()
             raise
-        self.times = StageTimes()
+        self.times, self.keep_times = StageTimes(), keep_times
 
     @property
     def fps(self) -> float:
@@ -125,7 +128,7 @@ class VideoTracking:
         return self.reader.fps
 
     def frames(self) -> Iterator[tuple[Frame, TrackResult]]:
-        """Yields (frame, result) per frame, recording the per-stage times in `times`."""
+        """Yields (frame, result) per frame, recording the per-stage times in `times` if kept."""
         frames = iter(self.reader)
         while True:
             t0 = time.perf_counter()
@@ -134,7 +137,8 @@ class VideoTracking:
             if frame is None:
                 return
             result = self.tracker.update(frame)
-            self.times.add(decode, result)
+            if self.keep_times:
+                self.times.add(decode, result)
             yield frame, result
 
     def close(self) -> None:

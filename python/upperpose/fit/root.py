@@ -76,7 +76,9 @@ class RootEstimator:
         self._min_head_share, self._confirm_jumps = min_head_share, confirm_jumps
         # The gate in metres: the head's width at start-up times `xy_gate`.
         self._gate_m = xy_gate * (self._size0 or 0.0) / pixels_per_metre(camera, self._z0)
-        self._run: list[npt.NDArray[np.float64]] = []  # the last measurements, each near the one before
+        # The last measurements, each near the one before; only whether there are confirm_jumps
+        # of them is asked, so no more are kept (a list grew by one a frame while tracking).
+        self._run: deque[npt.NDArray[np.float64]] = deque(maxlen=max(confirm_jumps, 1))
         self._previous_fit: npt.NDArray[np.float64] | None = None  # last frame's fitted X, Y
         self._expected = self.root[:2].copy()  # this frame's X, Y at last frame's velocity
         self._velocity_known = False

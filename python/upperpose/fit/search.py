@@ -79,35 +79,64 @@ def fit_frame(
         The `FrameFit` (pose, root, joints, cost and its terms, evaluations).
 
     Raises:
+        TypeError: `features` is not a frame's features.
         ValueError: inconsistent shapes, bad values or unknown stage names.
     """
+    sil, edge, motion = (bit_plane(features, name) for name in ("sil_bits", "edge_bits", "motion_bits"))
     if width is None:
         size = getattr(features, "size", None)
         width = int(size[1]) if size is not None else 64 * int(np.shape(features.sil_bits)[1])
-    # NaN marks an absent or merged point, so only the shape is checked here.
-    points = np.ascontiguousarray(features.points_array(), dtype=np.float64)
-    if points.shape != (3, 2):
-        raise InputError(f"features.points_array() must have shape (3, 2), got {points.shape}")
     return _upperpose.fit_frame_bits(
-        np.ascontiguousarray(features.sil_bits, dtype=np.uint64),
-        np.ascontiguousarray(features.edge_bits, dtype=np.uint64),
-        np.ascontiguousarray(features.motion_bits, dtype=np.uint64),
-        points,
-        int(width),
+        sil,
+        edge,
+        motion,
+        skin_points(features),
+        width,
         pose_array(prediction),
         as_float_array(root, "root", (3,)),
         body,
         camera,
         mode,
-        float(window_scale),
-        float(frame_interval),
+        window_scale,
+        frame_interval,
         list(search),
-        int(frame_index),
+        frame_index,
         config or SearchConfig(),
         None if angle_window_scales is None else as_float_array(angle_window_scales, "angle_window_scales", (13,)),
         merged_boxes(features),
         cover_bits(features),
     )
+
+
+def bit_plane(features: BitFeatures, name: str) -> npt.NDArray[np.uint64]:
+    """The bit plane `features.<name>`, refused unless it holds unsigned integers.
+
+    A float plane would otherwise be cast to bits silently, NaN included.
+    """
+    if not hasattr(features, name):
+        raise TypeError(
+            f"features must be a frame's features (upperpose.features.FrameFeatures), "
+            f"got {type(features).__name__} without {name}"
+        )
+    plane = np.asarray(getattr(features, name))
+    if plane.dtype.kind != "u":
+        raise InputError(f"features.{name} must be a uint64 bit plane, got dtype {plane.dtype}")
+    return np.ascontiguousarray(plane, dtype=np.uint64)
+
+
+def skin_points(features: BitFeatures) -> npt.NDArray[np.float64]:
+    """`(3, 2)` skin points in pixels; NaN marks an absent or merged point.
+
+    An infinite point (a broken detector) is refused: the core would take it for an absent one.
+    The core refuses points beyond its range.
+    """
+    points = np.asarray(features.points_array())
+    if points.dtype.kind not in "iuf" or points.shape != (3, 2):
+        raise InputError(f"features.points_array() must be (3, 2) numbers, got {points.dtype} {points.shape}")
+    points = np.ascontiguousarray(points, dtype=np.float64)
+    if np.isinf(points).any():
+        raise InputError(f"skin points must be finite or NaN (absent), got {points.tolist()}")
+    return points
 
 
 def cover_bits(features: BitFeatures) -> npt.NDArray[np.uint64] | None:

@@ -49,7 +49,16 @@ from upperpose.fit.startup import (
     widened,
 )
 from upperpose.fit.state import StateMachine
-from upperpose.model import BodyModel, Camera, Pose, forward_kinematics, model_points, project, render_masks
+from upperpose.model import (
+    BodyModel,
+    Camera,
+    Pose,
+    check_camera_fits,
+    forward_kinematics,
+    model_points,
+    project,
+    render_masks,
+)
 from upperpose.result import NO_PERSON, TrackResult
 
 FloatArray = npt.NDArray[np.float64]
@@ -212,6 +221,7 @@ class TrackerConfig:
         for name in ("startup_width_scales", "startup_head_scales"):
             for k, v in enumerate(getattr(self, name)):
                 real(f"{name}[{k}]", v, 0.0, open_low=True)
+        self.search_config()  # the search's own ranges (at most 10,000 particles, ...) live in the core
 
     def search_config(self) -> SearchConfig:
         """The `upperpose.SearchConfig` to use."""
@@ -313,6 +323,7 @@ class Tracker:
             background = Background.from_plate(np.asarray(background), cfg.features or FeatureConfig())
         self.background = background
         self.size = background.size
+        check_camera_fits(camera, self.size[1], self.size[0])
         self.fps = float(fps) if fps and fps > 0 else 30.0
         self._extract = FeatureExtractor(background, cfg.features, reuse_buffers=True)
         self._fitter: Fitter = fitter or fit_frame

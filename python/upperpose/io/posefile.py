@@ -146,6 +146,8 @@ def load_poses(path: str | os.PathLike[str]) -> dict[str, Any]:
         data = json.loads(text)
     except json.JSONDecodeError as err:
         raise InputError(f"{p}: not valid JSON ({err.msg} at line {err.lineno} column {err.colno})") from None
+    except RecursionError:  # the parser recurses per level; no pose file nests more than 4 deep
+        raise InputError(f"{p}: JSON nested too deeply to be a pose file") from None
     try:
         return validate_poses(data)
     except ValueError as err:

@@ -70,6 +70,12 @@ class VideoReader:
             )
         fps = float(self._cap.get(cv2.CAP_PROP_FPS) or 0.0)
         self.fps = fps if np.isfinite(fps) and 1.0 <= fps <= 1000.0 else DEFAULT_FPS
+        # A rate outside 1..1000 is a broken header or a camera that reports none: said, not hidden.
+        self.fps_warning = (
+            None
+            if self.fps == fps
+            else f"{self.name} reports {fps:g} fps, outside 1..1000: timed as {DEFAULT_FPS:g} fps"
+        )
         count = int(self._cap.get(cv2.CAP_PROP_FRAME_COUNT) or 0)
         self.frame_count: int | None = count if count > 0 else None
 
@@ -115,7 +121,10 @@ def read_background(path: str | os.PathLike[str], size: tuple[int, int]) -> Fram
     p = Path(path)
     if not p.is_file():
         raise VideoError(f"no such background image: {p}")
-    image = cv2.imread(str(p), cv2.IMREAD_COLOR)
+    try:
+        image = cv2.imread(str(p), cv2.IMREAD_COLOR)
+    except cv2.error:  # OpenCV refuses images over 2^30 pixels with an assertion, not None
+        raise VideoError(f"cannot read the background image {p}: too large (over 2^30 pixels) or corrupt") from None
     if image is None:
         raise VideoError(f"cannot read the background image {p}: not an image OpenCV can decode")
     if image.shape[:2] != tuple(size):

@@ -19,10 +19,13 @@ from typing import Any
 
 import numpy as np
 
+from upperpose.exceptions import InputError
 from upperpose.model import JOINT_NAMES
 
 PCK_THRESHOLD_PX = 10.0
 MAX_LAG_FRAMES = 5
+# Pixels or metres; beyond this, squared differences of coordinates overflow float64 in sums.
+MAX_COORDINATE = 1e9
 _LABELS = [n.replace("_", " ").capitalize() for n in JOINT_NAMES]
 
 
@@ -95,7 +98,8 @@ def evaluate(prediction: dict[str, Any], truth: dict[str, Any], pck_threshold_px
     """Scores a validated prediction against validated ground truth (see `upperpose.io.posefile`).
 
     Raises:
-        ValueError: the two files describe different image sizes, or the truth has no pose.
+        ValueError: the two files describe different image sizes, the truth has no pose, or
+            coordinates too large to score.
     """
     if (prediction["width"], prediction["height"]) != (truth["width"], truth["height"]):
         raise ValueError(
@@ -116,6 +120,9 @@ def evaluate(prediction: dict[str, Any], truth: dict[str, Any], pck_threshold_px
         for f in posed
         if f["frame"] in predicted and predicted[f["frame"]]["joints_2d"] is not None
     ]
+    for p, t in pairs:
+        _check_scorable(p, "prediction")
+        _check_scorable(t, "ground truth")
     n_joints = len(JOINT_NAMES)
     if pairs:
         diff = np.array([p["joints_2d"] for p, _ in pairs]) - np.array([t["joints_2d"] for _, t in pairs])
@@ -160,6 +167,19 @@ def evaluate(prediction: dict[str, Any], truth: dict[str, Any], pck_threshold_px
         lag_frames=lag,
         fps=fps,
     )
+
+
+def _check_scorable(frame: dict[str, Any], which: str) -> None:
+    """Refuses coordinates so large that their errors would overflow.
+
+    An overflowing error would become a null MPJPE next to a finite coverage.
+    """
+    for key in ("joints_2d", "joints_3d"):
+        if frame[key] is not None and np.abs(np.asarray(frame[key], dtype=float)).max() > MAX_COORDINATE:
+            raise InputError(
+                f"{which} frame {frame['frame']}: {key} beyond +-{MAX_COORDINATE:g} cannot be scored "
+                "(no image or room is that large)"
+            )
 
 
 def _motion_errors(joints: dict[int, tuple[Any, Any]]) -> tuple[float | None, int | None]:

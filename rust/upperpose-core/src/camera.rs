@@ -3,7 +3,7 @@
 //! Pixel coordinates: origin top-left, x right, y down; integer coordinates are pixel centres
 //! (OpenCV's convention), so pixel `(i, j)` covers `[i - 0.5, i + 0.5] x [j - 0.5, j + 0.5]`.
 
-use crate::error::{finite, positive, Result};
+use crate::error::{finite, positive, CoreError, Result};
 use nalgebra::{Matrix3x4, Vector2, Vector3};
 
 /// How 3D points reach the image plane.
@@ -29,6 +29,22 @@ pub struct Camera {
 
 /// Nearest depth (metres) at which perspective geometry is drawn; nearer solids are skipped.
 pub const NEAR_PLANE: f64 = 0.01;
+/// Largest focal length and principal-point offset, pixels: far beyond any real camera for
+/// images of at most 8192 pixels a side.
+pub const MAX_INTRINSIC_PX: f64 = 1e7;
+
+/// `Ok` when `|value| <= MAX_INTRINSIC_PX`; else an error naming `name`.
+fn within_intrinsic(name: &'static str, value: f64) -> Result<f64> {
+    if value.abs() <= MAX_INTRINSIC_PX {
+        Ok(value)
+    } else {
+        Err(CoreError::OutOfRange {
+            name,
+            expected: "within +-1e7 pixels",
+            value,
+        })
+    }
+}
 
 impl Camera {
     /// A pinhole camera.
@@ -64,8 +80,19 @@ impl Camera {
 
     fn checked(projection: Projection, focal: f64, cx: f64, cy: f64) -> Result<Self> {
         positive("focal", focal)?;
-        finite("cx", cx)?;
-        finite("cy", cy)?;
+        // Beyond these, projected coordinates of a body in view reach 1e300 and costs overflow.
+        within_intrinsic("focal", focal)?;
+        within_intrinsic("cx", finite("cx", cx)?)?;
+        within_intrinsic("cy", finite("cy", cy)?)?;
+        if let Projection::WeakPerspective { reference_depth } = projection {
+            if reference_depth < NEAR_PLANE {
+                return Err(CoreError::OutOfRange {
+                    name: "reference_depth",
+                    expected: "at least 0.01 metres",
+                    value: reference_depth,
+                });
+            }
+        }
         Ok(Camera {
             projection,
             focal,

@@ -5,10 +5,10 @@
 #[non_exhaustive]
 pub enum CoreError {
     /// A numeric argument is NaN or infinite.
-    #[error("{name} must be finite, got {value}")]
+    #[error("{name} must be finite, got {}", Num(*value))]
     NotFinite { name: &'static str, value: f64 },
     /// A numeric argument is outside the values it may take.
-    #[error("{name} must be {expected}, got {value}")]
+    #[error("{name} must be {expected}, got {}", Num(*value))]
     OutOfRange {
         name: &'static str,
         expected: &'static str,
@@ -30,6 +30,21 @@ pub enum CoreError {
         width: u32,
         height: u32,
     },
+}
+
+/// A value as a message shows it: plainly, but in exponent form when plain would spell out
+/// hundreds of digits (1e300, 1e-12).
+struct Num(f64);
+
+impl std::fmt::Display for Num {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let v = self.0.abs();
+        if v != 0.0 && v.is_finite() && !(1e-4..1e9).contains(&v) {
+            write!(f, "{:e}", self.0)
+        } else {
+            write!(f, "{}", self.0)
+        }
+    }
 }
 
 /// Result with [`CoreError`].

@@ -43,12 +43,13 @@ impl Roi {
                 });
             }
         }
+        // checked_add: a corner near i64::MAX must not wrap round into the image.
         let ok = w > 0
             && h > 0
             && x >= 0
             && y >= 0
-            && x + w <= i64::from(width)
-            && y + h <= i64::from(height);
+            && x.checked_add(w).is_some_and(|end| end <= i64::from(width))
+            && y.checked_add(h).is_some_and(|end| end <= i64::from(height));
         if !ok {
             return Err(CoreError::InvalidRoi {
                 roi: (x, y, w, h),

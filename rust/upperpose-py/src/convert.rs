@@ -1,8 +1,11 @@
 //! numpy <-> core conversions, with checks that name the argument.
 
 use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods};
-use pyo3::exceptions::PyTypeError;
+use std::fmt::Display;
+
+use pyo3::exceptions::{PyOverflowError, PyTypeError};
 use pyo3::prelude::*;
+use pyo3::types::PyBool;
 use upperpose_core::nalgebra::Vector3;
 use upperpose_core::Pose;
 
@@ -29,6 +32,71 @@ pub fn finite_vector<'a>(
         )));
     }
     Ok(values)
+}
+
+/// An integer argument of any size (a Python int or anything with `__index__`) within
+/// `low..=high`. pyo3's own conversion says only "OverflowError: can't convert negative int to
+/// unsigned"; this names the argument and the range. Booleans and non-integers are a TypeError.
+pub fn int_arg<T>(name: &str, value: &Bound<'_, PyAny>, low: T, high: T) -> PyResult<T>
+where
+    T: Copy + Display + TryFrom<i128> + TryInto<i128>,
+{
+    let not_int = || {
+        PyTypeError::new_err(format!(
+            "{name} must be an integer, got {}",
+            value
+                .get_type()
+                .name()
+                .map_or_else(|_| "?".to_string(), |n| n.to_string())
+        ))
+    };
+    if value.is_instance_of::<PyBool>() {
+        return Err(not_int());
+    }
+    let got = match value.extract::<i128>() {
+        Ok(v) => Some(v),
+        Err(err) if err.is_instance_of::<PyOverflowError>(value.py()) => None,
+        Err(_) => return Err(not_int()),
+    };
+    let (lo, hi) = (low.try_into().ok(), high.try_into().ok());
+    got.filter(|v| lo.is_none_or(|lo| *v >= lo) && hi.is_none_or(|hi| *v <= hi))
+        .and_then(|v| T::try_from(v).ok())
+        .ok_or_else(|| {
+            let shown =
+                got.map_or_else(|| "an integer beyond 2**127".to_string(), |v| v.to_string());
+            errors::input_error(format!("{name} must be within {low}..={high}, got {shown}"))
+        })
+}
+
+/// A keyword argument converted to `T`, its name in the error: a wrong type stays a
+/// `TypeError`; a wrong length or a number beyond `T` (pyo3's ValueError, OverflowError) is an
+/// `InputError`.
+pub fn named_arg<'py, T>(name: &str, value: &Bound<'py, PyAny>) -> PyResult<T>
+where
+    T: for<'a> FromPyObject<'a, 'py, Error = PyErr>,
+{
+    value.extract::<T>().map_err(|err| {
+        let py = value.py();
+        let message = format!("{name}: {}", err.value(py));
+        if err.is_instance_of::<PyTypeError>(py) {
+            PyTypeError::new_err(message)
+        } else {
+            errors::input_error(message)
+        }
+    })
+}
+
+/// `int_arg` for an optional argument.
+pub fn opt_int_arg<T>(
+    name: &str,
+    value: Option<&Bound<'_, PyAny>>,
+    low: T,
+    high: T,
+) -> PyResult<Option<T>>
+where
+    T: Copy + Display + TryFrom<i128> + TryInto<i128>,
+{
+    value.map(|v| int_arg(name, v, low, high)).transpose()
 }
 
 /// The 13 pose angles.

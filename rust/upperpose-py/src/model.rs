@@ -2,9 +2,10 @@
 
 use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray2};
 use pyo3::prelude::*;
+use upperpose_core::raster::MAX_IMAGE_SIDE;
 use upperpose_core::{BodyModel, Camera, Projection};
 
-use crate::convert::points_from_array;
+use crate::convert::{int_arg, named_arg, points_from_array};
 use crate::errors::IntoPy;
 
 /// Body dimensions in metres (adult averages by default; see docs/body-model.md).
@@ -23,9 +24,9 @@ macro_rules! body_fields {
             #[new]
             #[pyo3(signature = (*, $($field = None),*))]
             #[allow(clippy::too_many_arguments)] // one keyword argument per dimension
-            fn new($($field: Option<$ty>),*) -> PyResult<Self> {
+            fn new($($field: Option<Bound<'_, PyAny>>),*) -> PyResult<Self> {
                 let mut inner = BodyModel::default();
-                $(if let Some(v) = $field { inner.$field = v; })*
+                $(if let Some(v) = $field { inner.$field = named_arg::<$ty>(stringify!($field), &v)?; })*
                 inner.validate().py()?;
                 Ok(PyBodyModel { inner })
             }
@@ -129,12 +130,18 @@ impl PyCamera {
     /// and, unless given, focal length equal to the image width.
     ///
     /// Args:
-    ///     width: image width in pixels.
-    ///     height: image height in pixels.
+    ///     width: image width in pixels, 1..=8192.
+    ///     height: image height in pixels, 1..=8192.
     ///     focal: focal length in pixels; defaults to `width`.
     #[staticmethod]
     #[pyo3(signature = (width, height, focal = None))]
-    fn for_image(width: u32, height: u32, focal: Option<f64>) -> PyResult<Self> {
+    fn for_image(
+        width: &Bound<'_, PyAny>,
+        height: &Bound<'_, PyAny>,
+        focal: Option<f64>,
+    ) -> PyResult<Self> {
+        let width = int_arg("width", width, 1, MAX_IMAGE_SIDE)?;
+        let height = int_arg("height", height, 1, MAX_IMAGE_SIDE)?;
         let base = Camera::default_for_image(width, height).py()?;
         let inner = match focal {
             Some(f) => Camera::perspective(f, base.cx, base.cy).py()?,

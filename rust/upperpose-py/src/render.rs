@@ -5,7 +5,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use upperpose_core::{skeleton_from_pose, BitMask, BodyRaster, Part, Roi, PART_NAMES};
 
-use crate::convert::{pose_from_array, vector3_from_array};
+use crate::convert::{int_arg, pose_from_array, vector3_from_array};
 use crate::errors::IntoPy;
 use crate::model::{PyBodyModel, PyCamera};
 
@@ -53,10 +53,22 @@ pub fn render_masks_py<'py>(
     root: PyReadonlyArray1<'py, f64>,
     body: &PyBodyModel,
     camera: &PyCamera,
-    width: u32,
-    height: u32,
-    roi: Option<(i64, i64, i64, i64)>,
+    width: Bound<'py, PyAny>,
+    height: Bound<'py, PyAny>,
+    roi: Option<[Bound<'py, PyAny>; 4]>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    // The core names a side beyond its limit; here only what cannot be a u32 is refused.
+    let width = int_arg("width", &width, 0, u32::MAX)?;
+    let height = int_arg("height", &height, 0, u32::MAX)?;
+    let roi = match roi {
+        Some([x, y, w, h]) => Some((
+            int_arg("roi[0]", &x, i64::MIN, i64::MAX)?,
+            int_arg("roi[1]", &y, i64::MIN, i64::MAX)?,
+            int_arg("roi[2]", &w, i64::MIN, i64::MAX)?,
+            int_arg("roi[3]", &h, i64::MIN, i64::MAX)?,
+        )),
+        None => None,
+    };
     let pose = pose_from_array(&pose)?;
     let root = vector3_from_array("root", &root)?;
     let (x, y, w, h) = roi.unwrap_or((0, 0, i64::from(width), i64::from(height)));

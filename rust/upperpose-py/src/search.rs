@@ -8,14 +8,18 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use upperpose_core::image::{FrameView, SkinPoints};
 use upperpose_core::nalgebra::{Vector2, Vector3};
+use upperpose_core::raster::MAX_IMAGE_SIDE;
 use upperpose_core::search::apso::SwarmConfig;
 use upperpose_core::search::cost::{CostTerms, CostWeights};
 use upperpose_core::search::{
-    fit_frame, FrameFit, FrameRequest, Mode, Optimizer, SearchConfig, STAGE_NAMES,
+    fit_frame, FrameFit, FrameRequest, Mode, Optimizer, SearchConfig, MAX_ITERATIONS,
+    MAX_PARTICLES, MAX_THREADS, STAGE_NAMES,
 };
 use upperpose_core::{skeleton_from_pose, JointLimits, DOF_COUNT};
 
-use crate::convert::{array_from_points, pose_from_array, vector3_from_array};
+use crate::convert::{
+    array_from_points, int_arg, opt_int_arg, pose_from_array, vector3_from_array,
+};
 use crate::errors::{self, IntoPy};
 use crate::model::{PyBodyModel, PyCamera};
 
@@ -40,7 +44,7 @@ fn terms_values(t: &CostTerms) -> [f64; 7] {
 ///     threads: worker threads; None uses UPPERPOSE_NUM_THREADS, else one per 64 particles (at
 ///         most one per core; one at the default 24, where handing work to other threads costs
 ///         more than it saves).
-///     seed: random seed; the same seed gives the same fit whatever the thread count.
+///     seed: random seed (None: 0); the same seed gives the same fit whatever the thread count.
 ///     root_window: half-width (metres) of the torso stage's search over the root's X and Y;
 ///         0 (the default) keeps the root given.
 ///     initial_root_window: the same in "initial" mode.
@@ -74,26 +78,26 @@ pub struct PySearchConfig {
 impl PySearchConfig {
     #[new]
     #[pyo3(signature = (*, particles = None, iterations = None, c0 = None, annealing = None, max_speed = None,
-                        weights = None, limits = "anatomical", non_penetration = true, threads = None, seed = 0,
+                        weights = None, limits = "anatomical", non_penetration = true, threads = None, seed = None,
                         root_window = None, initial_root_window = None, row_steps = None, optimizer = "apso",
                         sigma = None, behind_weight = None, behind_margin = None,
                         turn_weight = None, rotation_weight = None, mask_other_arm_edges = true, sil_by_part_area = true,
                         merged_skin = true))]
     #[allow(clippy::too_many_arguments)] // one keyword argument per setting
     fn new(
-        particles: Option<usize>,
-        iterations: Option<usize>,
+        particles: Option<Bound<'_, PyAny>>,
+        iterations: Option<Bound<'_, PyAny>>,
         c0: Option<f64>,
         annealing: Option<bool>,
         max_speed: Option<f64>,
         weights: Option<HashMap<String, f64>>,
         limits: &str,
         non_penetration: bool,
-        threads: Option<usize>,
-        seed: u64,
+        threads: Option<Bound<'_, PyAny>>,
+        seed: Option<Bound<'_, PyAny>>,
         root_window: Option<f64>,
         initial_root_window: Option<f64>,
-        row_steps: Option<(i32, i32, i32)>,
+        row_steps: Option<(Bound<'_, PyAny>, Bound<'_, PyAny>, Bound<'_, PyAny>)>,
         optimizer: &str,
         sigma: Option<f64>,
         behind_weight: Option<f64>,
@@ -107,8 +111,10 @@ impl PySearchConfig {
         let mut c = SearchConfig::default();
         let d = SwarmConfig::default();
         c.swarm = SwarmConfig {
-            particles: particles.unwrap_or(d.particles),
-            iterations: iterations.unwrap_or(d.iterations),
+            particles: opt_int_arg("particles", particles.as_ref(), 1, MAX_PARTICLES)?
+                .unwrap_or(d.particles),
+            iterations: opt_int_arg("iterations", iterations.as_ref(), 1, MAX_ITERATIONS)?
+                .unwrap_or(d.iterations),
             c0: c0.unwrap_or(d.c0),
             annealing: annealing.unwrap_or(d.annealing),
             max_speed: max_speed.unwrap_or(d.max_speed),
@@ -148,8 +154,8 @@ impl PySearchConfig {
         c.mask_other_arm_edges = mask_other_arm_edges;
         c.sil_by_part_area = sil_by_part_area;
         c.merged_skin = merged_skin;
-        c.threads = threads;
-        c.seed = seed;
+        c.threads = opt_int_arg("threads", threads.as_ref(), 1, MAX_THREADS)?;
+        c.seed = opt_int_arg("seed", seed.as_ref(), 0, u64::MAX)?.unwrap_or(0);
         for (v, slot) in [
             (root_window, &mut c.root_window),
             (initial_root_window, &mut c.initial_root_window),
@@ -163,7 +169,12 @@ impl PySearchConfig {
             }
         }
         if let Some((a, b, d)) = row_steps {
-            c.row_steps = [a, b, d];
+            // Only what is not an i32 is refused here; validate() gives the range.
+            c.row_steps = [
+                int_arg("row_steps[0]", &a, i32::MIN, i32::MAX)?,
+                int_arg("row_steps[1]", &b, i32::MIN, i32::MAX)?,
+                int_arg("row_steps[2]", &d, i32::MIN, i32::MAX)?,
+            ];
         }
         c.optimizer = Optimizer::from_name(optimizer).ok_or_else(|| {
             errors::input_error(format!(
@@ -414,7 +425,7 @@ pub fn fit_frame_bits_py(
     edge: PyReadonlyArray2<'_, u64>,
     motion: PyReadonlyArray2<'_, u64>,
     points: PyReadonlyArray2<'_, f64>,
-    width: u32,
+    width: Bound<'_, PyAny>,
     prediction: PyReadonlyArray1<'_, f64>,
     root: PyReadonlyArray1<'_, f64>,
     body: &PyBodyModel,
@@ -423,12 +434,14 @@ pub fn fit_frame_bits_py(
     window_scale: f64,
     frame_interval: f64,
     search: Vec<String>,
-    frame_index: u64,
+    frame_index: Bound<'_, PyAny>,
     config: &PySearchConfig,
     angle_window_scales: Option<PyReadonlyArray1<'_, f64>>,
     merged_boxes: Option<PyReadonlyArray2<'_, f64>>,
     skin_mask: Option<PyReadonlyArray2<'_, u64>>,
 ) -> PyResult<PyFrameFit> {
+    let width = int_arg("width", &width, 1, MAX_IMAGE_SIDE)?;
+    let frame_index = int_arg("frame_index", &frame_index, 0, u64::MAX)?;
     let mut scales = [1.0; DOF_COUNT];
     if let Some(a) = &angle_window_scales {
         let got = a.as_slice().map_err(|_| {

@@ -179,6 +179,11 @@ pub const MAX_PARTICLES: usize = 10_000;
 pub const MAX_ITERATIONS: usize = 10_000;
 /// Most worker threads.
 pub const MAX_THREADS: usize = 1024;
+/// Farthest a skin point or merged box may lie outside the image, pixels.
+pub const MAX_POINT_PX: f64 = 1e6;
+/// Nearest and farthest root depth (metres) a perspective fit takes.
+pub const MIN_ROOT_DEPTH: f64 = 0.1;
+pub const MAX_ROOT_DEPTH: f64 = 1000.0;
 
 impl SearchConfig {
     /// Checks every setting's range; the one place they are checked (the Python binding
@@ -416,10 +421,12 @@ fn part_box(stage: Stage, req: &FrameRequest, skel: &Skeleton, roi: Roi) -> Opti
     let (mut x0, mut y0, mut x1, mut y1) = (i32::MAX, i32::MAX, i32::MIN, i32::MIN);
     for o in outlines(stage.parts(), skel, &req.body, &req.camera)? {
         if let Some(b) = o.bounds() {
-            x0 = x0.min(b.0.floor() as i32 - 2);
-            y0 = y0.min(b.1.floor() as i32 - 2);
-            x1 = x1.max(b.2.ceil() as i32 + 3);
-            y1 = y1.max(b.3.ceil() as i32 + 3);
+            // Saturating: a part reaching past the camera plane has bounds beyond i32, which
+            // `as` clamps to i32::MIN/MAX; plain arithmetic would then overflow.
+            x0 = x0.min((b.0.floor() as i32).saturating_sub(2));
+            y0 = y0.min((b.1.floor() as i32).saturating_sub(2));
+            x1 = x1.max((b.2.ceil() as i32).saturating_add(3));
+            y1 = y1.max((b.3.ceil() as i32).saturating_add(3));
         }
     }
     let (x0, y0) = (x0.max(roi.x), y0.max(roi.y));
@@ -740,10 +747,26 @@ fn check(req: &FrameRequest) -> Result<()> {
     ] {
         finite(name, v)?;
     }
-    if req.camera.is_perspective() && req.root.z <= 0.0 {
+    // A skin point farther out would make its squared distance, and the cost, infinite.
+    let skin = &req.frame.skin;
+    let corners = skin.merged.iter().flatten().flatten();
+    for p in skin.points.iter().flatten().chain(corners) {
+        for v in [p.x, p.y] {
+            if !(v.abs() <= MAX_POINT_PX) {
+                return Err(CoreError::OutOfRange {
+                    name: "skin point",
+                    expected: "within +-1e6 pixels",
+                    value: v,
+                });
+            }
+        }
+    }
+    // Nearer, the body reaches through the camera; farther, it is smaller than a pixel. Either
+    // way no stage could be scored and the fit would report cost 0 after no evaluation.
+    if req.camera.is_perspective() && !(MIN_ROOT_DEPTH..=MAX_ROOT_DEPTH).contains(&req.root.z) {
         return Err(CoreError::OutOfRange {
             name: "root[2]",
-            expected: "> 0 (in front of the camera)",
+            expected: "within 0.1..=1000 metres in front of the camera",
             value: req.root.z,
         });
     }
