@@ -121,8 +121,9 @@ def track_to_files(
         warnings.simplefilter("always", CleanPlateWarning)
         run_ = VideoTracking(source, background, focal=focal, config=config)
     notes = [str(w.message) for w in caught[:1]] + ([run_.reader.fps_warning] if run_.reader.fps_warning else [])
-    for note in notes if on_warning is not None else []:
-        on_warning(note)
+    if on_warning is not None:
+        for note in notes:
+            on_warning(note)
     size = (run_.reader.width, run_.reader.height)
     try:  # an overlay that cannot be opened (an unknown extension) ends the run before any record
         overlay = OverlayWriter(paths.overlay, *size, run_.fps) if paths.overlay is not None else None
