@@ -184,11 +184,12 @@ class FeatureConfig:
     face, a model hand still on the face must not take the face's blob and push the head onto
     the hand's."""
 
-    part_min_share: float = 0.1
+    part_min_share: float = 0.25
     """Hand and head matching: no part takes a blob smaller than this share of the part's
-    expected area (`points.PART_AREAS`, from the predicted shoulder width). Smaller blobs near
-    the face are scraps of it or of the hair: with a hand on the face the hand would take one
-    and not be reported merged, and the head would take one."""
+    expected area (`points.PART_AREAS`, from the predicted shoulder width). Smaller blobs are
+    scraps of the face, the hair or an arm: with a hand on the face the hand would take one
+    and not be reported merged, the head would take one, and the cost would then pull the arm
+    to the scrap and charge the true pose for being far from it (docs/features.md)."""
 
     hand_length: float = 0.5
     """Hand point: the point is the centroid of the last `hand_length` shoulder widths of
