@@ -82,7 +82,7 @@ class Progress:
 
     def text(self) -> str:
         """The count, rate and time left, as the plain lines show them."""
-        return str(
+        text = str(
             tqdm.format_meter(
                 self.done,
                 self.total,
@@ -92,6 +92,7 @@ class Progress:
                 bar_format=_PLAIN if self.total else _PLAIN_OPEN_ENDED,
             )
         )
+        return " ".join(text.split())  # tqdm pads the rate to a column; a log line needs no columns
 
     def write(self, line: str) -> None:
         """Writes a line that stays (above the bar on a terminal)."""
