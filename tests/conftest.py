@@ -27,6 +27,12 @@ def random_pose(rng: np.random.Generator) -> upperpose.Pose:
 
 
 @pytest.fixture(autouse=True)
+def no_timed_progress_lines(monkeypatch: pytest.MonkeyPatch) -> None:
+    """No plain progress lines on a captured stderr: whether one shows would depend on the run's speed."""
+    monkeypatch.setenv("UPPERPOSE_PROGRESS_EVERY", "0")
+
+
+@pytest.fixture(autouse=True)
 def pose_files_follow_the_schema(monkeypatch: pytest.MonkeyPatch):  # type: ignore[no-untyped-def]
     """Every pose file any test writes is checked against the shipped JSON Schema."""
     import json

@@ -214,7 +214,6 @@ def test_bad_batch_input_is_one_line(corpus: Path, tmp_path: Path, capsys: pytes
     cases = [
         (["nope.mp4", "--out-dir", out], "no such video, folder or list file: nope.mp4"),
         ([str(tmp_path), "--out-dir", out], "no video in the folder"),
-        ([str(corpus), "--out-dir", out, "--jobs", "0"], "jobs must be at least 1"),
         ([str(corpus), "--out-dir", out, "--collect"], "address and collect are for the ray backend"),
         ([str(corpus), "--out-dir", str(corpus / "a" / "video.mp4")], "is a file"),
     ]

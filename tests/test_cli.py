@@ -33,8 +33,6 @@ def test_render_writes_an_image(tmp_path: Path) -> None:
     ("argv", "message"),
     [
         (["render", "--angle", "elbow=1"], "unknown angle 'elbow'"),
-        (["render", "--angle", "right_z_up"], "--angle takes NAME=RAD"),
-        (["render", "--depth", "-1"], "--depth must be within 0.3..100 metres, got -1"),
         (["render", "-o", "/nonexistent-folder/x.png"], "does not exist"),
     ],
 )
@@ -48,6 +46,42 @@ def test_usage_error_exits_2() -> None:
     with pytest.raises(SystemExit) as exc:
         main(["render", "--width", "wide"])
     assert exc.value.code == 2
+
+
+def usage_error(argv: list[str], capsys: pytest.CaptureFixture[str]) -> str:
+    """Runs a command line that must end in argparse's usage and exit 2; returns its error line."""
+    with pytest.raises(SystemExit) as exc:
+        main(argv)
+    assert exc.value.code == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"usage: upperpose {argv[0]} ") and "Traceback" not in err, err
+    last = err.splitlines()[-1]
+    assert last.startswith(f"upperpose {argv[0]}: error: "), err
+    return last
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["render", "--angle", "right_z_up"], "--angle takes NAME=RAD, got 'right_z_up'"),
+        (["render", "--depth", "-1"], "--depth must be within 0.3..100 metres, got -1"),
+        (["track", "v.mp4", "-o", "x.json", "--particles", "0"], "--particles must be at least 1, got 0"),
+        (["track", "v.mp4", "-o", "x.json", "--seed", "-1"], "--seed must be within 0..2**64-1, got -1"),
+        (["track", "-o", "x.json"], "give either a VIDEO or --camera N"),
+        (["batch", "v.mp4", "--out-dir", "o", "--jobs", "0"], "--jobs must be at least 1, got 0"),
+        (["batch", "v.mp4", "--out-dir", "o", "--iterations", "-3"], "--iterations must be at least 1, got -3"),
+        (["config", "--sigma", "0"], "--sigma must be a positive number, got 0.0"),
+        (["eval", "p.json", "g.json", "--pck", "0"], "--pck must be positive, got 0.0"),
+        (["features", "v.mp4", "--frame", "-2", "-o", "f.png"], "--frame must be >= 0, got -2"),
+        (["demo", "--frames", "5"], "--frames must be within 30..3000, got 5"),
+    ],
+)
+def test_bad_option_values_exit_2_with_the_usage(
+    argv: list[str], message: str, capsys: pytest.CaptureFixture[str], tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.chdir(tmp_path)  # where any output named above would go
+    assert message in usage_error(argv, capsys)
+    assert list(tmp_path.iterdir()) == []
 
 
 def test_installed_command_runs_in_a_subprocess(tmp_path: Path) -> None:
@@ -83,13 +117,11 @@ def _current_umask() -> int:
         (["synth", "OUT", "--width", "100000"], "--width must be within 32..8192 pixels"),
     ],
 )
-def test_sizes_and_rates_out_of_range_are_one_line(
+def test_sizes_and_rates_out_of_range_exit_2(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], argv: list[str], message: str
 ) -> None:
     argv = [str(tmp_path / "out") if a == "OUT" else a for a in argv]
-    assert main([*argv, "-o", str(tmp_path / "m.png")] if argv[0] == "render" else argv) == 1
-    err = capsys.readouterr().err
-    assert err.count("\n") == 1 and message in err
+    assert message in usage_error([*argv, "-o", str(tmp_path / "m.png")] if argv[0] == "render" else argv, capsys)
     assert list(tmp_path.iterdir()) == []
 
 

@@ -41,8 +41,11 @@ def test_bad_flags_are_one_line_errors(capsys: pytest.CaptureFixture[str]) -> No
     with pytest.raises(SystemExit):
         main(["track", "v.mp4", "-o", "x.json", "--optimizer", "newton"])
     assert "invalid choice" in capsys.readouterr().err
-    assert main(["track", "v.mp4", "-o", "x.json", "--sigma", "-1"]) == 1
-    assert capsys.readouterr().err.strip() == "upperpose track: error: --sigma must be a positive number, got -1.0"
+    with pytest.raises(SystemExit) as exc:
+        main(["track", "v.mp4", "-o", "x.json", "--sigma", "-1"])
+    assert exc.value.code == 2
+    err = capsys.readouterr().err
+    assert err.splitlines()[-1] == "upperpose track: error: --sigma must be a positive number, got -1.0"
 
 
 def dataset(tmp_path: Path) -> Path:
@@ -94,8 +97,6 @@ def test_same_seed_same_numbers_whatever_jobs_and_threads(tmp_path: Path) -> Non
 @pytest.mark.parametrize(
     ("setup", "args", "message"),
     [
-        (None, ["--jobs", "0"], "--jobs must be at least 1, got 0"),
-        (None, ["--sigmas", "0"], "--sigmas must be positive numbers, got 0.0"),
         ("missing", [], "is not a folder"),
         ("empty", [], "no clip in"),
         ("no_gt", [], "clip c has no gt.json"),
@@ -118,6 +119,21 @@ def test_bad_input_is_one_line(
     lines = [line for line in err.splitlines() if line.strip()]
     assert code == 1 and len(lines) == 1 and "Traceback" not in err
     assert message in lines[0]
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--jobs", "0"], "--jobs must be at least 1, got 0"),
+        (["--sigmas", "0"], "--sigmas must be positive numbers, got 0.0"),
+    ],
+)
+def test_bad_values_exit_2(tmp_path: Path, capsys: pytest.CaptureFixture[str], args: list[str], message: str) -> None:
+    with pytest.raises(SystemExit) as exc:
+        main(["compare", str(tmp_path), *args])
+    assert exc.value.code == 2
+    err = capsys.readouterr().err
+    assert "usage: upperpose compare" in err and err.splitlines()[-1] == f"upperpose compare: error: {message}"
 
 
 def test_a_failing_run_is_one_line(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:

@@ -201,19 +201,25 @@ def test_unwritable_output(tmp_path: Path, capsys: pytest.CaptureFixture[str], p
 
 
 def test_bad_option_value(tmp_path: Path, capsys: pytest.CaptureFixture[str], plate_path: Path) -> None:
-    code, _, err = track(
-        [
-            str(clip() / "video.mp4"),
-            "--background",
-            str(plate_path),
-            "-o",
-            str(tmp_path / "o.json"),
-            "--particles",
-            "0",
-        ],
-        capsys,
+    with pytest.raises(SystemExit) as exc:
+        track(
+            [
+                str(clip() / "video.mp4"),
+                "--background",
+                str(plate_path),
+                "-o",
+                str(tmp_path / "o.json"),
+                "--particles",
+                "0",
+            ],
+            capsys,
+        )
+    assert exc.value.code == 2
+    err = capsys.readouterr().err
+    assert err.startswith("usage: upperpose track") and err.splitlines()[-1].startswith(
+        "upperpose track: error: --particles"
     )
-    assert code == 1 and "--particles" in one_line_error(err)
+    assert not (tmp_path / "o.json").exists()
 
 
 def test_video_without_a_person(
@@ -267,10 +273,6 @@ def test_start_up_that_never_passes_is_one_line(
 @pytest.mark.parametrize(
     ("extra", "message"),
     [
-        (["--seed", "-1"], "--seed must be within 0..2**64-1"),
-        (["--seed", str(2**64)], "--seed must be within 0..2**64-1"),
-        (["--focal", "1e-300"], "--focal must be within 1..100000 pixels"),
-        (["--focal", "nan"], "--focal must be within"),
         (["--particles", "1000000000"], "particles must be within 1..=10000"),
         (["--iterations", "1000000000"], "iterations must be within 1..=10000"),
     ],
@@ -282,6 +284,27 @@ def test_out_of_range_options_are_one_line(
     out = tmp_path / "o.json"
     code, _, err = track([str(folder / "video.mp4"), "-o", str(out), *extra], capsys)
     assert code == 1 and message in one_line_error(err)
+    assert not out.exists()
+
+
+@pytest.mark.parametrize(
+    ("extra", "message"),
+    [
+        (["--seed", "-1"], "--seed must be within 0..2**64-1"),
+        (["--seed", str(2**64)], "--seed must be within 0..2**64-1"),
+        (["--focal", "1e-300"], "--focal must be within 1..100000 pixels"),
+        (["--focal", "nan"], "--focal must be within"),
+    ],
+)
+def test_out_of_range_option_values_exit_2(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], extra: list[str], message: str
+) -> None:
+    out = tmp_path / "o.json"
+    with pytest.raises(SystemExit) as exc:
+        track([str(clip() / "video.mp4"), "-o", str(out), *extra], capsys)
+    assert exc.value.code == 2
+    err = capsys.readouterr().err
+    assert "usage: upperpose track" in err and message in err.splitlines()[-1]
     assert not out.exists()
 
 
@@ -371,8 +394,9 @@ def test_missing_camera_and_live_source_without_plate_are_one_line(
     monkeypatch.setattr(video_module.cv2, "VideoCapture", lambda source: FakeCamera(frames))
     code, _, err = track(["--camera", "0", "-o", str(tmp_path / "o.json")], capsys)
     assert code == 1 and "a live source needs --background" in one_line_error(err)
-    code, _, err = track(["-o", str(tmp_path / "o.json")], capsys)
-    assert code == 1 and "give either a VIDEO or --camera N" in one_line_error(err)
+    with pytest.raises(SystemExit) as exc:  # a usage error
+        track(["-o", str(tmp_path / "o.json")], capsys)
+    assert exc.value.code == 2 and "give either a VIDEO or --camera N" in capsys.readouterr().err
 
 
 def test_sigterm_and_a_second_interrupt_while_writing_keep_a_whole_file(

@@ -134,6 +134,8 @@ def run(
                 meter.video(index, ended)
     except KeyboardInterrupt:
         interrupted = True
+    finally:
+        meter.close()
     with interrupts_held():
         ordered = [rows.get(i) or _unrecorded(job, out) for i, job in enumerate(work)]
         wall = time.perf_counter() - started

@@ -42,7 +42,6 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     )
     p.add_argument("--focal", type=float, metavar="PX", help="focal length in pixels (default: each video's width)")
     add_tracking_arguments(p)
-    p.add_argument("--quiet", action="store_true", help="no progress")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -50,8 +49,11 @@ def run(args: argparse.Namespace) -> int:
     from upperpose.batch import BatchInterrupted, BatchResult
     from upperpose.batch import run as run_batch
     from upperpose.batch.job import SKIPPED
+    from upperpose.commands.limits import OptionError
     from upperpose.commands.track import tracker_config
 
+    if args.jobs < 1:
+        raise OptionError(f"--jobs must be at least 1, got {args.jobs}")
     try:
         result: BatchResult = run_batch(
             args.inputs,

@@ -7,6 +7,8 @@ import math
 import shlex
 import sys
 
+from upperpose.commands.limits import OptionError
+
 NAME = "compare"
 HELP = "run every optimiser (APSO, PSO, simplex [1], APSOPF [2]) on every clip and write Table 4.2-1 per method"
 
@@ -33,7 +35,6 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         default=None,
         help="search threads per run (default: 1 with --jobs > 1, else the search's default)",
     )
-    p.add_argument("--quiet", action="store_true", help="no progress lines")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -45,10 +46,10 @@ def run(args: argparse.Namespace) -> int:
     for name in ("jobs", "frames", "threads"):
         value = getattr(args, name)
         if value is not None and value < 1:
-            raise ValueError(f"--{name} must be at least 1, got {value}")
+            raise OptionError(f"--{name} must be at least 1, got {value}")
     for s in args.sigmas:
         if not (math.isfinite(s) and s > 0):
-            raise ValueError(f"--sigmas must be positive numbers, got {s}")
+            raise OptionError(f"--sigmas must be positive numbers, got {s}")
     check_writable(args.output)
     clips = find_clips(args.dataset)
     methods = all_methods(args.sigmas)

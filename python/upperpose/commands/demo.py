@@ -10,6 +10,7 @@ import argparse
 import time
 from pathlib import Path
 
+from upperpose.commands.limits import OptionError
 from upperpose.commands.track import add_search_arguments, add_smoothing_argument
 
 NAME = "demo"
@@ -41,7 +42,7 @@ def run(args: argparse.Namespace) -> int:
     from upperpose.result import TrackResult
 
     if not 30 <= args.frames <= 3000:
-        raise ValueError(f"--frames must be within 30..3000, got {args.frames}")
+        raise OptionError(f"--frames must be within 30..3000, got {args.frames}")
     out = Path(args.output)
     out.mkdir(parents=True, exist_ok=True)
     check_writable(str(out / "poses.json"))

@@ -5,6 +5,8 @@ from __future__ import annotations
 import argparse
 import json
 
+from upperpose.commands.limits import OptionError
+
 NAME = "eval"
 HELP = "score predicted poses against ground truth: per-joint pixel errors, MPJPE, PCK, 3D error, coverage, fps"
 
@@ -23,7 +25,7 @@ def run(args: argparse.Namespace) -> int:
     from upperpose.lab.evaluate import evaluate, format_table
 
     if not args.pck > 0:
-        raise ValueError(f"--pck must be positive, got {args.pck}")
+        raise OptionError(f"--pck must be positive, got {args.pck}")
     scores = evaluate(load_poses(args.prediction), load_poses(args.truth), args.pck)
     print(json.dumps(scores.to_dict(), indent=1) if args.json else format_table(scores))
     return 0

@@ -12,6 +12,7 @@ import cv2
 import numpy as np
 import numpy.typing as npt
 
+from upperpose.commands.limits import OptionError
 from upperpose.exceptions import VideoError
 from upperpose.features import (
     SKIN_SPACES,
@@ -92,7 +93,7 @@ def predicted_joints(path: str, index: int) -> npt.NDArray[np.float64] | None:
 def run(args: argparse.Namespace) -> int:
     """Computes the features of the frame and writes the sheet."""
     if args.frame < 0:
-        raise ValueError(f"--frame must be >= 0, got {args.frame}")
+        raise OptionError(f"--frame must be >= 0, got {args.frame}")
     config = FeatureConfig(skin_space=args.skin)
     previous, frame = read_frames(args.video, args.frame)
     if args.background:

@@ -7,7 +7,7 @@ import argparse
 import cv2
 import numpy as np
 
-from upperpose.commands.limits import check_focal, check_number, check_size
+from upperpose.commands.limits import OptionError, check_focal, check_number, check_size
 from upperpose.draw import draw_model
 from upperpose.io.files import write_image
 from upperpose.model import ANGLE_NAMES, Camera, Pose
@@ -51,11 +51,11 @@ def parse_angles(items: list[str]) -> Pose:
     for item in items:
         name, sep, value = item.partition("=")
         if not sep:
-            raise ValueError(f"--angle takes NAME=RAD, got {item!r}")
+            raise OptionError(f"--angle takes NAME=RAD, got {item!r}")
         try:
             named[name.strip()] = float(value)
         except ValueError:
-            raise ValueError(f"--angle {name}: {value!r} is not a number") from None
+            raise OptionError(f"--angle {name}: {value!r} is not a number") from None
     return Pose(**named)
 
 

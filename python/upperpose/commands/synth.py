@@ -10,6 +10,8 @@ import time
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
+from upperpose.commands.limits import OptionError
+
 NAME = "synth"
 HELP = "render a synthetic clip folder (video, ground truth, clean plate, masks), or the development set"
 
@@ -71,10 +73,10 @@ def run(args: argparse.Namespace) -> int:
     from upperpose.lab.synth.sheet import contact_sheet
 
     if args.holdout and not args.devset:
-        raise ValueError("--holdout goes with --devset")
+        raise OptionError("--holdout goes with --devset")
     if args.devset:
         if args.jobs < 1:
-            raise ValueError(f"--jobs must be at least 1, got {args.jobs}")
+            raise OptionError(f"--jobs must be at least 1, got {args.jobs}")
         clips = holdout_set(args.holdout) if args.holdout else DEVSET
         label = f"held-out set {args.holdout}" if args.holdout else "development set"
         Path(args.outdir).mkdir(parents=True, exist_ok=True)

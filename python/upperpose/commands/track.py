@@ -3,10 +3,12 @@
 from __future__ import annotations
 
 import argparse
+import logging
 import math
 import sys
-import time
 from pathlib import Path
+
+from upperpose.commands.limits import OptionError
 
 NAME = "track"
 OPTIMIZERS = ("apso", "pso", "simplex", "apsopf")
@@ -73,7 +75,6 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         help="also write the angles as BVH on the person's skeleton (for Blender)",
     )
     add_tracking_arguments(p)
-    p.add_argument("--quiet", action="store_true", help="no progress bar or summary")
 
 
 def add_tracking_arguments(p: argparse.ArgumentParser) -> None:
@@ -111,13 +112,13 @@ def tracker_config(args: argparse.Namespace):  # type: ignore[no-untyped-def]
     for name in ("particles", "iterations", "threads"):
         value = getattr(args, name, None)
         if value is not None and value < 1:
-            raise ValueError(f"--{name} must be at least 1, got {value}")
+            raise OptionError(f"--{name} must be at least 1, got {value}")
     sigma = getattr(args, "sigma", None)
     if sigma is not None and not (math.isfinite(sigma) and sigma > 0):
-        raise ValueError(f"--sigma must be a positive number, got {sigma}")
+        raise OptionError(f"--sigma must be a positive number, got {sigma}")
     seed = getattr(args, "seed", None)
     if seed is not None and not 0 <= seed < 2**64:
-        raise ValueError(f"--seed must be within 0..2**64-1, got {seed}")
+        raise OptionError(f"--seed must be within 0..2**64-1, got {seed}")
     check_focal(getattr(args, "focal", None))
     path = getattr(args, "config", None)
     config = load_config(path) if path else TrackerConfig()
@@ -150,43 +151,15 @@ def check_writable(*paths: str | None) -> None:
             raise OSError(f"cannot write {p}: folder {folder} is not writable")
 
 
-class Progress:
-    """A one-line progress bar on stderr (only when it is a terminal), with frames per second."""
-
-    def __init__(self, total: int | None, enabled: bool) -> None:
-        self.total, self.start, self.last = total, time.perf_counter(), 0.0
-        self.enabled = enabled and sys.stderr.isatty()
-
-    def update(self, done: int, status: str) -> None:
-        """Redraws at most ten times a second."""
-        now = time.perf_counter()
-        if not self.enabled or now - self.last < 0.1:
-            return
-        self.last = now
-        fps = done / max(now - self.start, 1e-9)
-        if self.total:
-            filled = int(30 * done / self.total)
-            bar = f"[{'#' * filled}{'.' * (30 - filled)}] {done}/{self.total}"
-        else:
-            bar = f"{done} frames"
-        sys.stderr.write(f"\r{bar}  {fps:5.1f} fps  {status:<12}")
-        sys.stderr.flush()
-
-    def finish(self) -> None:
-        """Ends the line."""
-        if self.enabled:
-            sys.stderr.write("\n")
-            sys.stderr.flush()
-
-
 def run(args: argparse.Namespace) -> int:
     """Tracks the video; writes the outputs atomically, also after Ctrl-C."""
     from upperpose.exceptions import UpperposeError
     from upperpose.fit.outputs import OutputPaths, track_to_files
+    from upperpose.io.progress import Progress
     from upperpose.io.video import parse_source
 
     if (args.video is None) == (args.camera is None):
-        raise ValueError("give either a VIDEO or --camera N")
+        raise OptionError("give either a VIDEO or --camera N")
     source = args.camera if args.camera is not None else parse_source(args.video)
     name = f"camera {source}" if isinstance(source, int) else str(source)
     check_writable(args.output, args.csv, args.overlay, args.bvh)
@@ -197,15 +170,10 @@ def run(args: argparse.Namespace) -> int:
         bvh=Path(args.bvh) if args.bvh else None,
         overlay=Path(args.overlay) if args.overlay else None,
     )
-    progress = Progress(None, not args.quiet)
-
-    def warn(message: str) -> None:
-        if not args.quiet:
-            print(f"upperpose track: warning: {message}", file=sys.stderr)
+    progress = Progress("upperpose track", enabled=not args.quiet)
 
     def show(frames: int, total: int | None, status: str) -> None:
-        progress.total = total
-        progress.update(frames, status)
+        progress.update(frames, total, status)
 
     try:
         done = track_to_files(
@@ -217,10 +185,10 @@ def run(args: argparse.Namespace) -> int:
             smooth=not args.no_smooth,
             keep_partial=True,
             on_frame=show,
-            on_warning=warn,
+            on_warning=logging.getLogger(__name__).warning,
         )
     finally:
-        progress.finish()
+        progress.close()
     names = ", ".join(str(p) for p in done.written)
     if done.interrupted:
         print(f"upperpose track: interrupted after {done.frames} frames; wrote them to {names}", file=sys.stderr)

@@ -9,6 +9,7 @@ like a finished video to a rerun, which redoes the video instead).
 
 from __future__ import annotations
 
+import logging
 import os
 import time
 import warnings
@@ -28,6 +29,8 @@ from upperpose.io.output import PoseRecorder
 from upperpose.io.overlay import OverlayWriter, draw_overlay
 from upperpose.io.video import Frame
 from upperpose.result import LOST, NO_PERSON, TRACKED, TrackResult
+
+log = logging.getLogger(__name__)
 
 
 @dataclass(frozen=True)
@@ -142,9 +145,29 @@ def track_to_files(
         smoothing=smoothing,
     )
     smoother: PoseSmoother[Frame | None] = PoseSmoother(run_.camera, lag)
+    log.debug(
+        "%s: %dx%d at %.3g fps, %s frames, clean plate: %s",
+        name,
+        *size,
+        run_.fps,
+        run_.reader.frame_count or "unknown",
+        "yes" if run_.clean_plate else "no (estimated from the video)",
+    )
+    lost: set[str] = set()
 
     def take(result: TrackResult, frame: Frame | None) -> None:
+        posed_before = recorder.first_posed is not None
         recorder.add(result)
+        # The events a user asks about after a run (-v): when start-up ended, when an arm went and came back.
+        if not posed_before and recorder.first_posed is not None:
+            log.info("start-up found the person: tracking from frame %d", result.frame)
+        now = set(result.lost_parts)
+        for arm in sorted(now - lost):
+            log.info("frame %d: lost the %s; searching for it over its full range", result.frame, arm.replace("_", " "))
+        for arm in sorted(lost - now):
+            log.info("frame %d: recovered the %s", result.frame, arm.replace("_", " "))
+        lost.clear()
+        lost.update(now)
         if overlay is not None and frame is not None:
             overlay.write(draw_overlay(frame, result, run_.camera, run_.tracker.body))
         if on_frame is not None:
@@ -171,6 +194,9 @@ def track_to_files(
                     take(done, shown)
                 run_time = time.perf_counter() - started
                 written = _write(recorder, overlay, paths, run_, run_time)
+                log.info(
+                    "%s: %d frames in %.1f s; wrote %s", name, recorder.frames, run_time, ", ".join(map(str, written))
+                )
             elif overlay is not None:
                 overlay.close(keep=False)
             recorder.close()
