@@ -231,7 +231,9 @@ def test_hand_leaving_the_face_does_not_push_the_head_onto_it() -> None:
     head, right, _ = locate_points(blobs, predicted, CONFIG)
     assert not head.merged and abs(head.xy[1] - 100) < 20
     assert np.hypot(right.xy[0] - 300, right.xy[1] - 160) < 8
-    swapped, _, _ = locate_points(blobs, predicted, CONFIG.replace(head_priority=1.0))
+    # The priority alone: with the smaller floor on a part's blob (`part_min_share` 0.1), the
+    # hand's blob is large enough for the head, which takes it without the priority.
+    swapped, _, _ = locate_points(blobs, predicted, CONFIG.replace(head_priority=1.0, part_min_share=0.1))
     assert abs(swapped.xy[1] - 160) < 10, "without the priority the head takes the hand's blob"
 
 

@@ -208,14 +208,18 @@ def test_written_truth_matches_masks_and_scores_zero(tmp_path: Path, capsys: pyt
 
 
 def test_bad_synth_arguments(capsys: pytest.CaptureFixture[str], tmp_path: Path) -> None:
-    assert main(["synth", str(tmp_path / "x"), "--motion", "moonwalk"]) == 1
-    assert "unknown motion 'moonwalk'" in capsys.readouterr().err
-    assert main(["synth", str(tmp_path / "x"), "--frames", "0"]) == 1
-    assert "--frames must be within 1..100000, got 0" in capsys.readouterr().err
-    assert main(["synth", str(tmp_path / "x"), "--holdout", "1"]) == 1
-    assert "--holdout goes with --devset" in capsys.readouterr().err
-    assert main(["synth", str(tmp_path / "x"), "--devset", "--holdout", "-1"]) == 1
-    assert "positive integer, got -1" in capsys.readouterr().err
+    # Bad option values: argparse's usage line and exit 2, the message naming the option.
+    for argv, message in [
+        (["--motion", "moonwalk"], "unknown motion 'moonwalk'"),
+        (["--frames", "0"], "--frames must be within 1..100000, got 0"),
+        (["--holdout", "1"], "--holdout goes with --devset"),
+        (["--devset", "--holdout", "-1"], "--holdout must be a positive integer, got -1"),
+    ]:
+        with pytest.raises(SystemExit) as exc:
+            main(["synth", str(tmp_path / "x"), *argv])
+        assert exc.value.code == 2
+        err = capsys.readouterr().err
+        assert err.startswith("usage: upperpose synth") and message in err
     assert not (tmp_path / "x").exists()
     with pytest.raises(ValueError, match="unknown skin"):
         Appearance(skin="green")

@@ -69,11 +69,16 @@ def run(args: argparse.Namespace) -> int:
     from upperpose.lab.synth.appearance import Appearance
     from upperpose.lab.synth.dataset import write_clip
     from upperpose.lab.synth.devset import DEVSET, holdout_set
+    from upperpose.lab.synth.motions import MOTIONS
     from upperpose.lab.synth.scene import ClipConfig
     from upperpose.lab.synth.sheet import contact_sheet
 
     if args.holdout and not args.devset:
         raise OptionError("--holdout goes with --devset")
+    if args.holdout < 0:
+        raise OptionError(f"--holdout must be a positive integer, got {args.holdout}")
+    if args.motion not in MOTIONS:
+        raise OptionError(f"unknown motion {args.motion!r}; motions are {', '.join(MOTIONS)}")
     if args.devset:
         if args.jobs < 1:
             raise OptionError(f"--jobs must be at least 1, got {args.jobs}")
