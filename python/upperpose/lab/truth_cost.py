@@ -31,6 +31,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
+from upperpose._upperpose import joint_limits
 from upperpose.fit.pipeline import track_video
 from upperpose.fit.search import fit_frame
 from upperpose.fit.tracker import TrackerConfig
@@ -40,8 +41,10 @@ from upperpose.model import BodyModel, Camera, forward_kinematics, project
 FloatArray = npt.NDArray[np.float64]
 # Per arm: its angles y_up, x_up, z_up, x_down in the pose, and its elbow and hand joints.
 ARMS = {"right_arm": (slice(3, 7), 3, 5), "left_arm": (slice(8, 12), 4, 6)}
-_LOW = np.array([-1.6, -0.8, -0.3, 0.0])
-_HIGH = np.array([1.6, 3.1, 3.1, 2.6])
+# The right arm's anatomical ranges of y_up, x_up, z_up, x_down (the left arm mirrors them).
+_RANGES = joint_limits("anatomical")[3:7]
+_LOW = np.array([min(low for low, _ in r) for r in _RANGES])
+_HIGH = np.array([max(high for _, high in r) for r in _RANGES])
 _GRID = np.array(
     list(
         itertools.product(
@@ -138,6 +141,7 @@ class TruthCostProbe:
         joints = np.asarray(fit.joints_2d)
         truth = self.truth[frame]
         same = dict(kw, mode="initial", search=())
+        mine = None
         for arm, (sl, _, hand) in ARMS.items():
             off = float(np.hypot(*(joints[hand] - truth[hand])))
             if not off > self.threshold_px:
@@ -147,7 +151,8 @@ class TruthCostProbe:
                 continue
             true_pose = pose.copy()
             true_pose[sl] = angles
-            mine = fit_frame(features, pose, origin, body, camera, **same)
+            if mine is None:  # the fit's own score, once per frame
+                mine = fit_frame(features, pose, origin, body, camera, **same)
             theirs = fit_frame(features, true_pose, origin, body, camera, **same)
             difference = {t: theirs.terms[arm][t] - mine.terms[arm][t] for t in mine.terms[arm]}
             self.probes[(frame, arm)] = Probe(frame, arm, off, float(mine.cost), float(theirs.cost), difference)
