@@ -23,6 +23,7 @@ from upperpose._upperpose import joint_limits
 from upperpose.exceptions import InputError
 from upperpose.features import Background, FeatureConfig, FeatureExtractor, FrameFeatures
 from upperpose.fit.confidence import joint_confidence
+from upperpose.fit.reach import ArmReach, hand_target, unexplained
 from upperpose.fit.recovery import (
     ARMS,
     HAND_JOINT,
@@ -156,6 +157,12 @@ class TrackerConfig:
             lost) is searched once over its anatomical ranges, like a lost arm; that fit is
             taken when it costs less and its hand lies nearer the skin point. `doubt_frames` 0
             turns this off.
+        reach_share, reach_candidates: an arm whose fitted hand lies farther than `reach_share`
+            shoulder widths from its hand's skin point (or, with no blob matched, from the
+            nearest skin blob no part holds) is also sought from there: up to
+            `reach_candidates` arm poses that put the hand on that point (`fit.reach`) are
+            scored, and the best is searched in widened windows; the result is taken when it
+            costs less and its hand lies nearer the point. `reach_candidates` 0 turns this off.
     """
 
     particles: int | None = None
@@ -186,6 +193,8 @@ class TrackerConfig:
     fair_recovery: bool = True
     doubt_share: float = 0.25
     doubt_frames: int = 3
+    reach_share: float = 0.5
+    reach_candidates: int = 6
     search_options: dict[str, Any] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
@@ -208,13 +217,13 @@ class TrackerConfig:
         if self.seed >= 2**64:
             raise InputError(f"seed must be below 2**64, got {self.seed}")
         whole("confirm_frames", 1, self.confirm_frames)
-        for name in ("face_only_frames", "leave_frames", "lost_frames", "doubt_frames"):
+        for name in ("face_only_frames", "leave_frames", "lost_frames", "doubt_frames", "reach_candidates"):
             whole(name, 0, getattr(self, name))
         for name in ("presence_share", "velocity_damping"):
             real(name, getattr(self, name), 0.0, 1.0)
         for name in ("root_window", "unexplained_share", "doubt_share", "velocity_window_gain"):
             real(name, getattr(self, name), 0.0)
-        for name in ("lost_threshold", "recovery_window_scale", "startup_window_scale"):
+        for name in ("lost_threshold", "recovery_window_scale", "startup_window_scale", "reach_share"):
             real(name, getattr(self, name), 0.0, open_low=True)
         if self.sigma is not None:
             real("sigma", self.sigma, 0.0, open_low=True)
@@ -304,6 +313,7 @@ class Tracker:
     _face_streak: int
     _face_widths: list[float]
     _last_face: FaceBox | None
+    _reach: ArmReach | None
 
     def __init__(
         self,
@@ -494,6 +504,7 @@ class Tracker:
         self._doubt.reset()
         self._corrected: tuple[str, ...] = ()
         self._follow.reset()
+        self._reach = None
         return cast(FitLike, fit)
 
     # -- tracking -----------------------------------------------------------------------------
@@ -558,11 +569,60 @@ class Tracker:
             ):
                 fit = wide
                 self._corrected = tuple(lost + doubted)
+        fit, reached = self._reach_hands(features, fit, index, interval)
+        self._corrected = tuple(dict.fromkeys(self._corrected + reached))
         t2 = time.perf_counter()
         searched = tuple(p for p in PARTS if p in trajectory or p in doubted)
         result = self._accept(fit, features, index, searched, {"features": t1 - t0, "search": t2 - t1})
         result.timings["other"] = time.perf_counter() - t2
         return result
+
+    def _reach_hands(
+        self, features: FrameFeatures, fit: FitLike, index: int, interval: float
+    ) -> tuple[FitLike, tuple[str, ...]]:
+        """Seeks each arm whose hand is far from its skin evidence from that evidence.
+
+        Returns the fit to keep and the arms it moved.
+        """
+        cfg = self.config
+        if cfg.reach_candidates <= 0:
+            return fit, ()
+        moved: list[str] = []
+        fair: float | None = None
+        for arm in ARMS:
+            hands = project(self.camera, model_points(np.asarray(fit.pose), np.asarray(fit.root), self.body))
+            shoulder_px = max(float(np.hypot(*(hands[1] - hands[2]))), 10.0)
+            target = hand_target(features, arm, hands)
+            if target is None or not unexplained(hands, target, cfg.reach_share * shoulder_px):
+                continue
+            if self._reach is None:
+                self._reach = ArmReach(self.body)
+            seeds = self._reach.candidates(
+                arm,
+                fit.pose,
+                fit.root,
+                self.camera,
+                target,
+                cfg.reach_candidates,
+                tolerance_px=0.5 * shoulder_px,
+                elbow_spread_px=0.15 * shoulder_px,
+            )
+            if not seeds:
+                continue
+            root = np.asarray(fit.root)
+            scored = [self._fit(features, seed, root, "initial", (), index, interval) for seed in seeds]
+            best = seeds[int(np.argmin([float(s.cost) for s in scored]))]
+            found = self._fit(
+                features, best, root, "trajectory", (arm,), index, interval, self.config.recovery_window_scale
+            )
+            if fair is None:
+                fair = float(self._fit(features, np.asarray(fit.pose), root, "initial", (), index, interval).cost)
+            found_fair = float(self._fit(features, np.asarray(found.pose), root, "initial", (), index, interval).cost)
+            found_hand = project(self.camera, model_points(np.asarray(found.pose), root, self.body))[HAND_JOINT[arm]]
+            if found_fair < fair and np.hypot(*(found_hand - target)) < np.hypot(*(hands[HAND_JOINT[arm]] - target)):
+                fit, fair = found, found_fair
+                moved.append(arm)
+        return fit, tuple(moved)
 
     def _arm_scales(self, interval: float) -> FloatArray | None:
         """Per-angle window factors: each arm's windows grow with its last change.
@@ -742,6 +802,7 @@ class Tracker:
         self._doubt.reset()
         self._corrected = ()
         self._follow.reset()
+        self._reach = None
 
 
 __all__ = ["PARTS", "StaticFit", "TrackResult", "Tracker", "TrackerConfig"]

@@ -1,0 +1,143 @@
+"""Arm poses that put a hand on an image point (upperpose.fit.reach)."""
+
+from __future__ import annotations
+
+from types import SimpleNamespace
+
+import cv2
+import numpy as np
+import pytest
+
+import upperpose
+from upperpose.features import FeatureConfig, SkinPoint, find_skin_blobs
+from upperpose.fit.reach import ARM_ANGLES, ARM_JOINTS, ArmReach, hand_target, unexplained
+from upperpose.model import model_points, penetrates
+
+BODY = upperpose.BodyModel()
+CAMERA = upperpose.Camera.for_image(640, 480)
+REACH = ArmReach(BODY)
+
+
+def test_the_table_holds_for_any_torso_pose_and_root() -> None:
+    # Hands and elbows tabulated with the torso upright at the origin, rotated and moved by the
+    # torso's frame, are where forward kinematics puts them for the full pose.
+    rng = np.random.default_rng(4)
+    for _ in range(20):
+        pose = np.zeros(13)
+        pose[:3] = rng.uniform([-0.8, -0.3, -0.3], [0.8, 0.5, 0.3])
+        root = rng.uniform([-0.3, -0.2, 1.5], [0.3, 0.2, 3.5])
+        i = int(rng.integers(len(REACH.angles)))
+        rotation = upperpose.skeleton(pose, root, BODY)["torso"]
+        for arm, (elbow, hand) in ARM_JOINTS.items():
+            full = pose.copy()
+            full[ARM_ANGLES[arm]] = REACH.angles[i]
+            points = model_points(full, root, BODY)
+            assert np.allclose(root + rotation @ REACH.hands[arm][i], points[hand], atol=1e-12)
+            assert np.allclose(root + rotation @ REACH.elbows[arm][i], points[elbow], atol=1e-12)
+
+
+def test_no_tabulated_arm_passes_through_the_torso() -> None:
+    alone = np.zeros(13)
+    alone[ARM_ANGLES["left_arm"]] = (0.0, 0.0, 1.57, 0.0)
+    for angles in REACH.angles[::7]:
+        alone[ARM_ANGLES["right_arm"]] = angles
+        assert not penetrates(alone, np.zeros(3), BODY)
+    assert 1000 < len(REACH.angles) < 2700  # the grid, less the poses through the torso
+
+
+@pytest.mark.parametrize("arm", ["right_arm", "left_arm"])
+def test_candidates_put_the_hand_near_the_target(arm: str) -> None:
+    rng = np.random.default_rng(7 if arm == "right_arm" else 8)
+    root = np.array([0.05, 0.1, 2.2])
+    for _ in range(10):
+        pose = np.zeros(13)
+        pose[:3] = rng.uniform(-0.2, 0.2, 3)
+        pose[ARM_ANGLES[arm]] = rng.uniform([-1.0, -0.3, 0.0, 0.0], [1.0, 2.5, 2.5, 2.2])
+        elbow, hand = ARM_JOINTS[arm]
+        target = upperpose.project(CAMERA, model_points(pose, root, BODY))[hand]
+        start = pose.copy()
+        start[ARM_ANGLES[arm]] = 0.0
+        found = REACH.candidates(arm, start, root, CAMERA, target, 6, tolerance_px=30.0, elbow_spread_px=10.0)
+        assert 1 <= len(found) <= 6
+        elbows = []
+        for candidate in found:
+            points = upperpose.project(CAMERA, model_points(candidate, root, BODY))
+            assert np.hypot(*(points[hand] - target)) <= 30.0
+            # Only the arm's searched angles change.
+            keep = np.ones(13, bool)
+            keep[ARM_ANGLES[arm]] = False
+            assert np.array_equal(candidate[keep], start[keep])
+            elbows.append(points[elbow])
+        for a in range(len(elbows)):
+            for b in range(a):
+                assert np.hypot(*(elbows[a] - elbows[b])) >= 10.0
+    # A point no arm can reach gives nothing.
+    assert REACH.candidates(arm, np.zeros(13), root, CAMERA, (5000.0, 5000.0), 6, 30.0, 10.0) == []
+
+
+def _features(shapes, points) -> SimpleNamespace:
+    skin = np.zeros((480, 640), np.uint8)
+    for draw in shapes:
+        draw(skin)
+    edge = cv2.morphologyEx(skin, cv2.MORPH_GRADIENT, np.ones((3, 3), np.uint8))
+    blobs = find_skin_blobs(skin, edge, FeatureConfig())
+    sil = np.zeros_like(skin)
+    cv2.rectangle(sil, (150, 40), (500, 479), 255, -1)
+    return SimpleNamespace(blobs=blobs, points=points(blobs), sil=sil)
+
+
+def _blob_at(blobs, x, y) -> int:
+    return min(range(len(blobs)), key=lambda i: np.hypot(blobs[i].centroid[0] - x, blobs[i].centroid[1] - y))
+
+
+MODEL = np.array([[320, 100], [270, 170], [370, 170], [260, 230], [380, 230], [255, 290], [385, 290]], float)
+
+
+def face(skin):
+    cv2.ellipse(skin, (320, 100), (28, 36), 0, 0, 360, 255, -1)
+
+
+def test_a_matched_hand_point_is_the_target_and_a_merged_one_none() -> None:
+    hand = lambda skin: cv2.circle(skin, (250, 300), 18, 255, -1)  # noqa: E731
+    features = _features(
+        [face, hand],
+        lambda b: (
+            SkinPoint(b[_blob_at(b, 320, 100)].centroid, False, _blob_at(b, 320, 100)),
+            SkinPoint((250.0, 300.0), False, _blob_at(b, 250, 300)),
+            SkinPoint(b[_blob_at(b, 320, 100)].centroid, True, _blob_at(b, 320, 100)),
+        ),
+    )
+    assert np.allclose(hand_target(features, "right_arm", MODEL), (250.0, 300.0))  # type: ignore[arg-type]
+    assert hand_target(features, "left_arm", MODEL) is None  # type: ignore[arg-type]
+
+
+def test_a_hand_without_a_blob_takes_the_nearest_free_blob_on_the_person() -> None:
+    hand = lambda skin: cv2.circle(skin, (420, 380), 18, 255, -1)  # noqa: E731
+    off_person = lambda skin: cv2.circle(skin, (560, 300), 20, 255, -1)  # noqa: E731
+    scrap = lambda skin: cv2.circle(skin, (400, 250), 5, 255, -1)  # noqa: E731
+    features = _features(
+        [face, hand, off_person, scrap],
+        lambda b: (SkinPoint(b[_blob_at(b, 320, 100)].centroid, False, _blob_at(b, 320, 100)), None, None),
+    )
+    target = hand_target(features, "left_arm", MODEL)  # type: ignore[arg-type]
+    assert target is not None and np.hypot(target[0] - 420, target[1] - 380) < 10
+    # Without the person's blob only the room's skin-coloured object and a scrap remain: no hand.
+    features.blobs = [b for b in features.blobs if np.hypot(b.centroid[0] - 420, b.centroid[1] - 380) > 5]
+    assert hand_target(features, "left_arm", MODEL) is None  # type: ignore[arg-type]
+
+
+def test_a_hand_sharing_the_face_blob_takes_a_free_blob_when_there_is_one() -> None:
+    # The matching put the left hand on the face (merged), while the real hand shows elsewhere.
+    hand = lambda skin: cv2.circle(skin, (420, 380), 18, 255, -1)  # noqa: E731
+    head = lambda b: SkinPoint(b[_blob_at(b, 320, 100)].centroid, True, _blob_at(b, 320, 100))  # noqa: E731
+    features = _features([face, hand], lambda b: (head(b), None, head(b)))
+    target = hand_target(features, "left_arm", MODEL)  # type: ignore[arg-type]
+    assert target is not None and np.hypot(target[0] - 420, target[1] - 380) < 10
+
+
+def test_a_target_either_fitted_hand_explains_is_not_reached_for() -> None:
+    # MODEL's hands are at (255, 290) and (385, 290).
+    assert not unexplained(MODEL, (260.0, 295.0), 20.0)  # the arm's own hand is there
+    assert not unexplained(MODEL, (380.0, 300.0), 20.0)  # the other hand is there: maybe its point
+    assert unexplained(MODEL, (320.0, 380.0), 20.0)
+    assert not unexplained(MODEL, (320.0, 380.0), 120.0)  # 111 px from either hand
