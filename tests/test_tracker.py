@@ -13,7 +13,7 @@ from tracker_helpers import PART_ANGLES, TruthFitter, camera_of, clip, truth
 from upperpose.features.faces import FaceDetector
 from upperpose.features.packing import pack_rows
 from upperpose.features.points import SkinPoint
-from upperpose.fit import INITIALISING, LOST, NO_PERSON, TRACKED, StateMachine, StaticFit, Tracker, TrackerConfig
+from upperpose.fit import INITIALISING, LOST, NO_PERSON, PARTS, TRACKED, StateMachine, StaticFit, Tracker, TrackerConfig
 from upperpose.fit.recovery import DoubtDetector, HandFollower, LostDetector, unexplained_by_side
 from upperpose.fit.root import RootEstimator
 from upperpose.fit.startup import (
@@ -369,11 +369,13 @@ class RegionBiasedFitter(TruthFitter):
 @pytest.mark.parametrize("fair", [True, False])
 def test_a_lost_arm_compares_both_fits_in_the_same_regions(gt: dict, fair: bool) -> None:
     # Scored in its own (larger) regions the wrong full-range fit wins; scored against the
-    # trajectory fit in the same regions it does not.
+    # trajectory fit in the same regions it does not. (Re-seeking the arm from its hand, which
+    # rescores fits too, is off so that only the recovery's comparison is seen.)
     fitter = RegionBiasedFitter(gt)
     folder = clip()
     plate = cv2.imread(str(folder / "background.png"))
-    tracker = Tracker(camera_of(folder), plate, TrackerConfig(fair_recovery=fair), fps=15.0, fitter=fitter)
+    config = TrackerConfig(fair_recovery=fair, reach_candidates=0)
+    tracker = Tracker(camera_of(folder), plate, config, fps=15.0, fitter=fitter)
     raised = []
     with VideoReader(folder / "video.mp4") as reader:
         for i, frame in enumerate(reader):
@@ -417,8 +419,9 @@ def test_an_arm_that_stays_off_its_hand_blob_is_searched_over_its_ranges(gt: dic
     plate = cv2.imread(str(folder / "background.png"))
     # Every part searched every frame: the stuck elbow, not a motion flag, keeps the hand off.
     # At the truth the left hand's skin point sits 0.25-0.27 shoulder widths from the model's in
-    # this small clip, about the default limit: 0.3 keeps the left arm out of doubt.
-    config = TrackerConfig(doubt_frames=doubt_frames, doubt_share=0.3, skip_static=False)
+    # this small clip, about the default limit: 0.3 keeps the left arm out of doubt. Re-seeking
+    # the arm from its hand is off: this is the doubt's test.
+    config = TrackerConfig(doubt_frames=doubt_frames, doubt_share=0.3, skip_static=False, reach_candidates=0)
     tracker = Tracker(camera_of(folder), plate, config, fps=15.0, fitter=fitter)
     results, poses = [], []
     with VideoReader(folder / "video.mp4") as reader:
@@ -467,3 +470,55 @@ def test_track_video_streams_one_result_per_frame(gt: dict) -> None:
     assert [r.frame for r in results] == list(range(50))
     assert results[0].status == NO_PERSON and results[-1].status == TRACKED
     assert results[-1].joints_3d.shape == (7, 3) and results[-1].pose.shape == (13,)
+
+
+class LocalSearchFitter(TruthFitter):
+    """A search double that is local: every pose costs 0.5 plus its distance from the truth, and
+    a search finds a part's true angles only when the prediction lies within 0.3 rad of them
+    per angle, times the window scale (otherwise the part stays where predicted). On frame
+    `knock` the right arm's trajectory search returns it swung out to the side, far from its
+    hand's blob."""
+
+    def __init__(self, gt: dict, knock: int) -> None:
+        super().__init__(gt)
+        self.knock = knock
+
+    def __call__(self, features: object, prediction: object, root: object, body: object, camera: object, **kw: object):  # type: ignore[no-untyped-def]
+        index, mode, search = kw["frame_index"], kw["mode"], tuple(kw["search"])  # type: ignore[arg-type]
+        self.calls.append((index, mode, search))  # type: ignore[arg-type]
+        pose = np.array(prediction, dtype=np.float64)
+        true = self.frames[min(index, len(self.frames) - 1)]["angles"]  # type: ignore[call-overload]
+        if true is not None:
+            for part in search:
+                near = np.abs(pose[PART_ANGLES[part]] - np.asarray(true)[PART_ANGLES[part]]).max()
+                if near <= 0.3 * float(kw["window_scale"]):  # type: ignore[arg-type]
+                    pose[PART_ANGLES[part]] = np.asarray(true)[PART_ANGLES[part]]
+        if mode == "trajectory" and index == self.knock and "right_arm" in search:
+            pose[PART_ANGLES["right_arm"]] = [0.0, 0.0, 1.6, 0.0, 0.0]
+        cost = 0.5 + (float(np.abs(pose - np.asarray(true)).sum()) if true is not None else 0.0)
+        r = np.array(root, dtype=np.float64)
+        joints = upperpose.forward_kinematics(pose, r, body)
+        return StaticFit(pose, r, joints, upperpose.project(camera, joints), cost, {part: cost / 3 for part in PARTS})
+
+
+@pytest.mark.parametrize("reach", [6, 0])
+def test_an_arm_knocked_off_its_hand_is_sought_again_from_the_hand(gt: dict, reach: int) -> None:
+    # The arm swung out (the hand a shoulder width from its blob) lies beyond the local search's
+    # windows: only re-seeking it from the hand's skin point brings it back. The lost and doubt
+    # detectors are off so that only the reach acts.
+    knock = 32
+    fitter = LocalSearchFitter(gt, knock)
+    folder = clip()
+    plate = cv2.imread(str(folder / "background.png"))
+    config = TrackerConfig(reach_candidates=reach, doubt_frames=0, lost_threshold=100.0, skip_static=False)
+    tracker = Tracker(camera_of(folder), plate, config, fps=15.0, fitter=fitter)
+    arms = []
+    with VideoReader(folder / "video.mp4") as reader:
+        for i, frame in enumerate(reader):
+            result = tracker.update(frame)
+            if i >= knock and result.pose is not None:
+                true = np.asarray(gt["frames"][i]["angles"])[PART_ANGLES["right_arm"]]
+                arms.append(float(np.abs(result.pose[PART_ANGLES["right_arm"]] - true).max()))
+    assert arms[0] >= 1.0  # knocked off
+    assert (min(arms[1:4]) < 1e-9) == (reach > 0)  # found again within three frames, or never
+    assert (arms[-1] < 1e-9) == (reach > 0)
