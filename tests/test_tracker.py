@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 from types import SimpleNamespace
 
 import cv2
@@ -14,6 +15,7 @@ from upperpose.features.faces import FaceDetector
 from upperpose.features.packing import pack_rows
 from upperpose.features.points import SkinPoint
 from upperpose.fit import INITIALISING, LOST, NO_PERSON, PARTS, TRACKED, StateMachine, StaticFit, Tracker, TrackerConfig
+from upperpose.fit.reach import ArmReach
 from upperpose.fit.recovery import DoubtDetector, HandFollower, LostDetector, unexplained_by_side
 from upperpose.fit.root import RootEstimator
 from upperpose.fit.startup import (
@@ -26,6 +28,7 @@ from upperpose.fit.startup import (
     widened,
 )
 from upperpose.io.video import VideoReader
+from upperpose.model import model_points
 
 # -- pure units -------------------------------------------------------------------------------
 
@@ -522,3 +525,74 @@ def test_an_arm_knocked_off_its_hand_is_sought_again_from_the_hand(gt: dict, rea
     assert arms[0] >= 1.0  # knocked off
     assert (min(arms[1:4]) < 1e-9) == (reach > 0)  # found again within three frames, or never
     assert (arms[-1] < 1e-9) == (reach > 0)
+
+
+class LabelledFitter(TruthFitter):
+    """A search double for the hands' labelling: a pose costs 0.5 plus its angle distance from
+    `prefer` (the shape terms, which do not care about labels) plus the pixel distance of each
+    model hand from the skin point labelled with it, over 100 (the Skin term). A search finds
+    `prefer`'s arm angles when the prediction lies within 0.3 rad of them per angle, times the
+    window scale."""
+
+    def __init__(self, gt: dict, prefer: np.ndarray) -> None:
+        super().__init__(gt)
+        self.prefer = prefer
+
+    def __call__(self, features, prediction, root, body, camera, **kw):  # type: ignore[no-untyped-def]
+        pose = np.array(prediction, dtype=np.float64)
+        for part in kw["search"]:
+            sl = PART_ANGLES[part]
+            if np.abs(pose[sl] - self.prefer[sl]).max() <= 0.3 * float(kw["window_scale"]):
+                pose[sl] = self.prefer[sl]
+        r = np.array(root, dtype=np.float64)
+        joints = upperpose.forward_kinematics(pose, r, body)
+        hands = upperpose.project(camera, model_points(pose, r, body))[[5, 6]]
+        labelled = [features.right_hand, features.left_hand]
+        skin = sum(float(np.hypot(*(h - p.xy))) / 100.0 for h, p in zip(hands, labelled) if p is not None)
+        cost = 0.5 + float(np.abs(pose - self.prefer).sum()) + skin
+        return StaticFit(pose, r, joints, upperpose.project(camera, joints), cost)
+
+
+class FeatureKeeper(Tracker):
+    """A tracker that keeps the features of the frames it accepts."""
+
+    kept: dict[int, object] = {}
+
+    def _accept(self, fit, features, index, searched, timings):  # type: ignore[no-untyped-def]
+        self.kept[index] = features
+        return super()._accept(fit, features, index, searched, timings)
+
+
+@pytest.mark.parametrize("truth_cheaper", [True, False])
+def test_crossed_arms_on_swapped_hand_points_are_untangled_when_that_costs_less(gt: dict, truth_cheaper: bool) -> None:
+    # Frame 40: the truth's hands hold their own blobs. The fit crosses the arms (each hand on the
+    # other's blob) and the features carry the labels swapped to match, as the matching does when
+    # the prediction carried the hands past each other. Relabelled, the uncrossed truth costs less.
+    folder = clip()
+    plate = cv2.imread(str(folder / "background.png"))
+    tracker = FeatureKeeper(
+        camera_of(folder), plate, TrackerConfig(skip_static=False), fps=15.0, fitter=TruthFitter(gt)
+    )
+    with VideoReader(folder / "video.mp4") as reader:
+        for i, frame in enumerate(reader):
+            tracker.update(frame)
+            if i == 40:
+                break
+    features = tracker.kept[40]
+    assert features.right_hand is not None and features.left_hand is not None  # type: ignore[attr-defined]
+    truth_pose = np.asarray(gt["frames"][40]["angles"], dtype=np.float64)
+    root = np.asarray(tracker._last_root)
+    reach = ArmReach(tracker.body)
+    crossed = truth_pose.copy()
+    for arm, point in (("right_arm", features.left_hand), ("left_arm", features.right_hand)):  # type: ignore[attr-defined]
+        crossed = reach.candidates(arm, crossed, root, tracker.camera, point.xy, 1, 60.0, 1.0)[0]
+    swapped = dataclasses.replace(features, right_hand=features.left_hand, left_hand=features.right_hand)  # type: ignore[arg-type,attr-defined]
+    tracker._fitter = LabelledFitter(gt, truth_pose if truth_cheaper else crossed)
+    joints = upperpose.forward_kinematics(crossed, root, tracker.body)
+    fit = StaticFit(crossed, root, joints, upperpose.project(tracker.camera, joints), 1.0)
+    kept, labels, moved = tracker._untangle_hands(swapped, fit, 40, 1 / 15)
+    if truth_cheaper:
+        assert np.allclose(kept.pose, truth_pose) and moved == ("right_arm", "left_arm")
+        assert labels.right_hand is features.right_hand  # type: ignore[attr-defined]
+    else:
+        assert kept is fit and labels is swapped and moved == ()

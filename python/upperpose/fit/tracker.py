@@ -9,6 +9,7 @@ their anatomical ranges until found. See docs/tracker.md.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 from collections.abc import Callable
@@ -163,6 +164,9 @@ class TrackerConfig:
             `reach_candidates` arm poses that put the hand on that point (`fit.reach`) are
             scored, and the best is searched in widened windows; the result is taken when it
             costs less and its hand lies nearer the point. `reach_candidates` 0 turns this off.
+        untangle_hands: when both hands hold skin blobs of their own and the fitted hands lie
+            crossed in the image, the other labelling of the two blobs is also tried (both arms
+            sought from the swapped points as above); the lower cost wins. Needs the reach.
     """
 
     particles: int | None = None
@@ -195,6 +199,7 @@ class TrackerConfig:
     doubt_frames: int = 3
     reach_share: float = 0.5
     reach_candidates: int = 6
+    untangle_hands: bool = True
     search_options: dict[str, Any] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
@@ -570,7 +575,8 @@ class Tracker:
                 fit = wide
                 self._corrected = tuple(lost + doubted)
         fit, reached = self._reach_hands(features, fit, index, interval)
-        self._corrected = tuple(dict.fromkeys(self._corrected + reached))
+        fit, features, untangled = self._untangle_hands(features, fit, index, interval)
+        self._corrected = tuple(dict.fromkeys(self._corrected + reached + untangled))
         t2 = time.perf_counter()
         searched = tuple(p for p in PARTS if p in trajectory or p in doubted)
         result = self._accept(fit, features, index, searched, {"features": t1 - t0, "search": t2 - t1})
@@ -623,6 +629,64 @@ class Tracker:
                 fit, fair = found, found_fair
                 moved.append(arm)
         return fit, tuple(moved)
+
+    def _untangle_hands(
+        self, features: FrameFeatures, fit: FitLike, index: int, interval: float
+    ) -> tuple[FitLike, FrameFeatures, tuple[str, ...]]:
+        """Tries the other labelling of the hands' skin points when the fitted arms cross.
+
+        The matching labels the hand blobs by the prediction, so arms that the prediction carried
+        past each other (two hands that met and parted) take each other's blobs and stay
+        crossed. When both hands hold blobs of their own and the fitted hands lie crossed in the
+        image, both arms are also sought from the swapped points (as `_reach_hands` does) and
+        scored against the swapped features; the lower cost wins, labelling included.
+
+        Returns the fit, the features that go with it and the arms it moved.
+        """
+        right, left = features.right_hand, features.left_hand
+        if (
+            not self.config.untangle_hands
+            or self.config.reach_candidates <= 0
+            or right is None
+            or left is None
+            or right.merged
+            or left.merged
+            or right.blob == left.blob
+        ):
+            return fit, features, ()
+        pose, root = np.asarray(fit.pose), np.asarray(fit.root)
+        points = project(self.camera, model_points(pose, root, self.body))
+        # Facing the camera, the right hand lies left of the left hand in the image.
+        if not points[HAND_JOINT["right_arm"]][0] > points[HAND_JOINT["left_arm"]][0]:
+            return fit, features, ()
+        swapped = dataclasses.replace(features, right_hand=left, left_hand=right)
+        if self._reach is None:
+            self._reach = ArmReach(self.body)
+        shoulder_px = max(float(np.hypot(*(points[1] - points[2]))), 10.0)
+        candidate = pose.copy()
+        for arm, point in (("right_arm", left), ("left_arm", right)):
+            seeds = self._reach.candidates(
+                arm,
+                candidate,
+                root,
+                self.camera,
+                point.xy,
+                self.config.reach_candidates,
+                tolerance_px=0.5 * shoulder_px,
+                elbow_spread_px=0.15 * shoulder_px,
+            )
+            if not seeds:
+                return fit, features, ()
+            scored = [self._fit(swapped, seed, root, "initial", (), index, interval) for seed in seeds]
+            candidate = seeds[int(np.argmin([float(s.cost) for s in scored]))]
+        found = self._fit(
+            swapped, candidate, root, "trajectory", ARMS, index, interval, self.config.recovery_window_scale
+        )
+        mine = float(self._fit(features, pose, root, "initial", (), index, interval).cost)
+        theirs = float(self._fit(swapped, np.asarray(found.pose), root, "initial", (), index, interval).cost)
+        if theirs < mine:
+            return found, swapped, ARMS
+        return fit, features, ()
 
     def _arm_scales(self, interval: float) -> FloatArray | None:
         """Per-angle window factors: each arm's windows grow with its last change.
