@@ -9,6 +9,7 @@ tasks track exactly as this process does.
 from __future__ import annotations
 
 import csv
+import functools
 import json
 import shutil
 import signal
@@ -126,7 +127,10 @@ def test_interrupted_batch_leaves_no_partial_file_and_a_rerun_completes_it(
 ) -> None:
     out = tmp_path / "out"
     argv = [sys.executable, "-m", "upperpose", "batch", str(corpus), "--out-dir", str(out), "--jobs", jobs]
-    with subprocess.Popen(argv, stderr=subprocess.PIPE, text=True) as run:
+    # Ctrl-C as in a terminal, even when this test runs in the background (where the shell
+    # starts it with SIGINT ignored, which a child would inherit).
+    default_sigint = functools.partial(signal.signal, signal.SIGINT, signal.SIG_DFL)
+    with subprocess.Popen(argv, stderr=subprocess.PIPE, text=True, preexec_fn=default_sigint) as run:
         assert run.stderr is not None
         seen = []
         for line in run.stderr:
