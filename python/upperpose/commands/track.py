@@ -203,7 +203,7 @@ def run(args: argparse.Namespace) -> int:
         raise UpperposeError(
             f"tracking never started in {name} ({frames} frames): a face was seen but never held still "
             f"long enough (the A-pose for {config.confirm_frames} frames in a row, or a steady face for "
-            f"{config.face_only_frames}); wrote {args.output} without a pose"
+            f"{done.face_only_frames}); wrote {args.output} without a pose"
         )
     if not args.quiet:
         first = done.first_posed or 0

@@ -128,6 +128,9 @@ class TrackerConfig:
         face_only_frames: after this many frames in a row with a stable face but no three
             clean skin blobs (a skin-coloured shirt swallows the hands), start anyway from the
             A-pose with average arms.
+        face_only_frames_learnt: the same while the background is learnt (no clean plate):
+            until the first fit the room behind the person is a guess (inpainted), and
+            skin-coloured room there joins the hands' blobs, so the blob check rarely passes.
         leave_frames: frames in a row without the person before going back to "no_person".
         presence_share: the person is present while at least this share of the model's last
             projection is covered by the silhouette, or the head's skin blob lies within a
@@ -177,6 +180,7 @@ class TrackerConfig:
     skip_static: bool = True
     confirm_frames: int = 3
     face_only_frames: int = 15
+    face_only_frames_learnt: int = 3
     leave_frames: int = 8
     presence_share: float = 0.3
     lost_threshold: float = 1.0
@@ -214,7 +218,7 @@ class TrackerConfig:
         if self.seed >= 2**64:
             raise InputError(f"seed must be below 2**64, got {self.seed}")
         whole("confirm_frames", 1, self.confirm_frames)
-        for name in ("face_only_frames", "leave_frames", "lost_frames", "doubt_frames"):
+        for name in ("face_only_frames", "face_only_frames_learnt", "leave_frames", "lost_frames", "doubt_frames"):
             whole(name, 0, getattr(self, name))
         for name in ("presence_share", "velocity_damping"):
             real(name, getattr(self, name), 0.0, 1.0)
@@ -372,6 +376,12 @@ class Tracker:
         """Whether the background is learnt from the frames (no clean plate was given)."""
         return self._online is not None or self._extract is None
 
+    @property
+    def face_only_frames(self) -> int:
+        """Frames of a stable face after which start-up goes ahead without the blob check."""
+        cfg = self.config
+        return cfg.face_only_frames_learnt if self.learns_background else cfg.face_only_frames
+
     def reset(self) -> None:
         """Forgets the person and the previous frame (after a cut or a seek)."""
         self.state.reset()
@@ -505,7 +515,7 @@ class Tracker:
             check = check_apose(points, face[2])
             # Not while the face moves half its width a frame: a person walking in is measured
             # mid-stride.
-            passed = bool(stable) and (check.passed or self._face_streak >= self.config.face_only_frames)
+            passed = bool(stable) and (check.passed or self._face_streak >= self.face_only_frames)
             if not check.passed:
                 points[1:] = np.nan  # face-only start-up: average arms
         else:
