@@ -64,7 +64,12 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         help="video file to track, a stream URL (rtsp://, http://) or a camera index (0 is the first camera)",
     )
     p.add_argument("--camera", type=int, metavar="N", help="track live from camera N (the same as VIDEO=N)")
-    p.add_argument("--background", metavar="IMAGE", help="clean plate: a photo of the empty scene (recommended)")
+    p.add_argument(
+        "--background",
+        metavar="IMAGE",
+        help="clean plate: a photo of the empty scene (recommended; without it the background is learnt "
+        "while tracking)",
+    )
     p.add_argument("--focal", type=float, metavar="PX", help="focal length in pixels (default: the image width)")
     p.add_argument("-o", "--output", required=True, metavar="OUT.json", help="pose file to write (SPEC 9)")
     p.add_argument("--csv", metavar="OUT.csv", help="also write one CSV row per frame")
