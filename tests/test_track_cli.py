@@ -433,3 +433,15 @@ def test_sigterm_and_a_second_interrupt_while_writing_keep_a_whole_file(
     assert frames == list(range(len(frames))) and 20 <= len(frames) <= 22
     assert sorted(p.name for p in tmp_path.iterdir()) == ["poses.json"]
     assert signal.getsignal(signal.SIGTERM) is signal.SIG_DFL
+
+
+@pytest.mark.parametrize("model", ["online", "prepass"])
+def test_a_file_without_a_plate_takes_the_chosen_background_model(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], fake_search: TruthFitter, model: str
+) -> None:
+    out = tmp_path / "poses.json"
+    code, _, err = track([str(clip() / "video.mp4"), "--bg-model", model, "-o", str(out), "--quiet"], capsys)
+    assert code == 0, err
+    doc = load_poses(out)
+    assert doc["clean_plate"] is False and doc["settings"]["features"]["bg_model"] == model
+    assert sum(f["status"] == "tracked" for f in doc["frames"]) >= 0.5 * len(doc["frames"])

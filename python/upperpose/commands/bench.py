@@ -7,7 +7,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from upperpose.commands.track import add_search_arguments
+from upperpose.commands.track import add_background_model_argument, add_search_arguments
 
 NAME = "bench"
 HELP = "end-to-end tracking speed: per-frame time (median, p90) split into decode, features, search, output"
@@ -20,7 +20,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--no-plate",
         action="store_true",
-        help="track without a clean plate (the background learnt while tracking, or the pre-pass of --config)",
+        help="track without a clean plate (the background from --bg-model)",
     )
     p.add_argument("--focal", type=float, metavar="PX", help="focal length in pixels")
     p.add_argument("--frames", type=int, default=150, help="frames of the synthetic clip (default 150)")
@@ -28,6 +28,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         "--no-skip", action="store_true", help="only measure with motion-flag skipping off (default: both ways)"
     )
     add_search_arguments(p)
+    add_background_model_argument(p)
 
 
 def measure(

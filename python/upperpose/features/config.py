@@ -322,10 +322,11 @@ class FeatureConfig:
     """Background estimation: radius of the inpainting (Telea) that fills the pixels no sample
     shows without the person."""
 
-    bg_model: BackgroundModel = "online"
-    """Without a clean plate: "online" learns the background while tracking (`features/online.py`;
-    a live camera works the same way, no pass over the video first), "prepass" estimates a plate
-    from the whole video before tracking (`features/background.py`; files only)."""
+    bg_model: BackgroundModel = "prepass"
+    """Without a clean plate, for a file: "prepass" estimates a plate from the whole video before
+    tracking (`features/background.py`), "online" learns the background while tracking
+    (`features/online.py`; no pass over the video first, but less accurate on the validation and
+    development sets, docs/features.md). A live camera or stream always learns it online."""
 
     bg_online_rate: float = 0.02
     """Online background: the running mean's rate once it has seen 1/rate frames (before, the

@@ -31,9 +31,9 @@ def load_background(
 
     Args:
         background: a `Background`, a plate image, a path to one, or None: no clean plate, with
-            a `CleanPlateWarning`; the result is then None (the tracker learns the background
-            while tracking, `bg_model` "online", and always for a live source) or a plate
-            estimated from the whole video first (`bg_model` "prepass").
+            a `CleanPlateWarning`; the result is then a plate estimated from the whole video
+            first (`bg_model` "prepass", the default for files) or None: the tracker learns the
+            background while tracking (`bg_model` "online", and always for a live source).
         video: the video (to estimate from).
         size: the video's `(height, width)`.
         config: feature thresholds.
