@@ -354,13 +354,14 @@ class FakeCamera:
         pass
 
 
-@pytest.mark.parametrize("how", [["0"], ["--camera", "0"]])
+@pytest.mark.parametrize(("how", "plate"), [(["0"], True), (["--camera", "0"], True), (["0"], False)])
 def test_live_camera_is_tracked(
     tmp_path: Path,
     capsys: pytest.CaptureFixture[str],
     monkeypatch: pytest.MonkeyPatch,
     fake_search: TruthFitter,
     how: list[str],
+    plate: bool,
 ) -> None:
     import upperpose.io.video as video_module
 
@@ -374,26 +375,25 @@ def test_live_camera_is_tracked(
 
     monkeypatch.setattr(video_module.cv2, "VideoCapture", capture)
     out = tmp_path / "live.json"
-    code, _, err = track([*how, "--background", str(folder / "background.png"), "-o", str(out), "--quiet"], capsys)
+    background = ["--background", str(folder / "background.png")] if plate else []
+    code, _, err = track([*how, *background, "-o", str(out), "--quiet"], capsys)
     assert code == 0, err
     assert opened == [0]
     doc = load_poses(out)
     assert doc["source"] == "camera 0" and len(doc["frames"]) == len(frames)
-    assert any(f["status"] == "tracked" for f in doc["frames"])
+    assert doc["clean_plate"] is plate
+    # Without a plate the background is learnt while tracking: a live camera works the same way.
+    assert sum(f["status"] == "tracked" for f in doc["frames"]) >= 0.5 * len(frames)
 
 
-def test_missing_camera_and_live_source_without_plate_are_one_line(
+def test_missing_camera_is_one_line(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
 ) -> None:
     import upperpose.io.video as video_module
 
-    frames = clip_frames(clip())
     monkeypatch.setattr(video_module.cv2, "VideoCapture", lambda source: FakeCamera(None))
     code, _, err = track(["3", "-o", str(tmp_path / "o.json")], capsys)
     assert code == 1 and "no camera 3" in one_line_error(err)
-    monkeypatch.setattr(video_module.cv2, "VideoCapture", lambda source: FakeCamera(frames))
-    code, _, err = track(["--camera", "0", "-o", str(tmp_path / "o.json")], capsys)
-    assert code == 1 and "a live source needs --background" in one_line_error(err)
     with pytest.raises(SystemExit) as exc:  # a usage error
         track(["-o", str(tmp_path / "o.json")], capsys)
     assert exc.value.code == 2 and "give either a VIDEO or --camera N" in capsys.readouterr().err
@@ -433,3 +433,15 @@ def test_sigterm_and_a_second_interrupt_while_writing_keep_a_whole_file(
     assert frames == list(range(len(frames))) and 20 <= len(frames) <= 22
     assert sorted(p.name for p in tmp_path.iterdir()) == ["poses.json"]
     assert signal.getsignal(signal.SIGTERM) is signal.SIG_DFL
+
+
+@pytest.mark.parametrize("model", ["online", "prepass"])
+def test_a_file_without_a_plate_takes_the_chosen_background_model(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], fake_search: TruthFitter, model: str
+) -> None:
+    out = tmp_path / "poses.json"
+    code, _, err = track([str(clip() / "video.mp4"), "--bg-model", model, "-o", str(out), "--quiet"], capsys)
+    assert code == 0, err
+    doc = load_poses(out)
+    assert doc["clean_plate"] is False and doc["settings"]["features"]["bg_model"] == model
+    assert sum(f["status"] == "tracked" for f in doc["frames"]) >= 0.5 * len(doc["frames"])

@@ -38,7 +38,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--background",
         metavar="IMAGE",
-        help="one clean plate for every video (default: a background.png beside each video, else estimated)",
+        help="one clean plate for every video (default: a background.png beside each video, else estimated, "
+        "see --bg-model)",
     )
     p.add_argument("--focal", type=float, metavar="PX", help="focal length in pixels (default: each video's width)")
     add_tracking_arguments(p)

@@ -64,7 +64,12 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         help="video file to track, a stream URL (rtsp://, http://) or a camera index (0 is the first camera)",
     )
     p.add_argument("--camera", type=int, metavar="N", help="track live from camera N (the same as VIDEO=N)")
-    p.add_argument("--background", metavar="IMAGE", help="clean plate: a photo of the empty scene (recommended)")
+    p.add_argument(
+        "--background",
+        metavar="IMAGE",
+        help="clean plate: a photo of the empty scene (recommended; without it the background is estimated "
+        "from the video, see --bg-model, or learnt while tracking from a live camera)",
+    )
     p.add_argument("--focal", type=float, metavar="PX", help="focal length in pixels (default: the image width)")
     p.add_argument("-o", "--output", required=True, metavar="OUT.json", help="pose file to write (SPEC 9)")
     p.add_argument("--csv", metavar="OUT.csv", help="also write one CSV row per frame")
@@ -77,9 +82,21 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     add_tracking_arguments(p)
 
 
+def add_background_model_argument(p: argparse.ArgumentParser) -> None:
+    """--bg-model, shared by track, batch and bench."""
+    p.add_argument(
+        "--bg-model",
+        choices=("online", "prepass"),
+        default=None,
+        help="without --background: learn the background while tracking (online; always for a live camera) "
+        "or estimate it from the whole video first (prepass, the default for files; docs/features.md)",
+    )
+
+
 def add_tracking_arguments(p: argparse.ArgumentParser) -> None:
-    """The search options, --no-skip and --no-smooth: how track and batch track a video."""
+    """The search options, --bg-model, --no-skip and --no-smooth: how track and batch track a video."""
     add_search_arguments(p)
+    add_background_model_argument(p)
     p.add_argument("--no-skip", action="store_true", help="search every part every frame (ignore the motion flags)")
     add_smoothing_argument(p)
 
@@ -126,7 +143,13 @@ def tracker_config(args: argparse.Namespace):  # type: ignore[no-untyped-def]
     given.update(optimizer=getattr(args, "optimizer", None), sigma=sigma, limits=getattr(args, "limits", None))
     if getattr(args, "no_skip", False):
         given["skip_static"] = False
-    return dataclasses.replace(config, **{k: v for k, v in given.items() if v is not None})
+    config = dataclasses.replace(config, **{k: v for k, v in given.items() if v is not None})
+    bg_model = getattr(args, "bg_model", None)
+    if bg_model is not None:
+        from upperpose.features import FeatureConfig
+
+        config = dataclasses.replace(config, features=(config.features or FeatureConfig()).replace(bg_model=bg_model))
+    return config
 
 
 def check_writable(*paths: str | None) -> None:
@@ -203,7 +226,7 @@ def run(args: argparse.Namespace) -> int:
         raise UpperposeError(
             f"tracking never started in {name} ({frames} frames): a face was seen but never held still "
             f"long enough (the A-pose for {config.confirm_frames} frames in a row, or a steady face for "
-            f"{config.face_only_frames}); wrote {args.output} without a pose"
+            f"{done.face_only_frames}); wrote {args.output} without a pose"
         )
     if not args.quiet:
         first = done.first_posed or 0

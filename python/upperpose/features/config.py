@@ -10,6 +10,8 @@ from upperpose.exceptions import InputError
 
 SkinSpace = Literal["rgb", "ycrcb", "hsv", "rgb+ycrcb"]
 SKIN_SPACES: tuple[str, ...] = ("rgb", "ycrcb", "hsv", "rgb+ycrcb")
+BackgroundModel = Literal["online", "prepass"]
+BACKGROUND_MODELS: tuple[str, ...] = ("online", "prepass")
 
 
 @dataclass(frozen=True)
@@ -320,9 +322,54 @@ class FeatureConfig:
     """Background estimation: radius of the inpainting (Telea) that fills the pixels no sample
     shows without the person."""
 
+    bg_model: BackgroundModel = "prepass"
+    """Without a clean plate, for a file: "prepass" estimates a plate from the whole video before
+    tracking (`features/background.py`), "online" learns the background while tracking
+    (`features/online.py`; no pass over the video first, but less accurate on the validation and
+    development sets, docs/features.md). A live camera or stream always learns it online."""
+
+    bg_online_rate: float = 0.02
+    """Online background: the running mean's rate once it has seen 1/rate frames (before, the
+    plain mean of the frames so far); sets how fast it follows slow light changes."""
+
+    bg_online_change_rate: float = 0.1
+    """Online background: the rate for pixels away from the person that differ from the model
+    (I_sub): the room behind where the person stood at the start, moved furniture."""
+
+    bg_online_margin: int = 12
+    """Online background: the person's region (the model's projection) is grown by this many
+    pixels before the rest is learnt (clothes and hair outside the cones, a fit a little off)."""
+
+    bg_online_reach: float = 4.2
+    """Online background: before the first fit, the pixels within this many face widths of
+    either shoulder (below the face) are the person's reach and are not learnt (filled by
+    inpainting in the first frame)."""
+
+    bg_online_grabcut_runs: int = 1
+    """Online background: GrabCut runs that cut the person out of the first frame (inside the
+    reach above; see `bg_grabcut_runs`)."""
+
+    bg_online_hold_skin: bool = True
+    """Online background: also leave the first frame's skin within the reach out (bare arms that
+    GrabCut gave to the room; but also wooden doors and desks, whose inpainted fill then reads
+    as skin beside the hands until the first fit)."""
+
+    bg_online_busy_dilate: int = 7
+    """Online background: side of the dilation of the skin and motion pixels that are not
+    learnt (a hand the fit missed, a motion trail)."""
+
+    bg_online_refresh: int = 5
+    """Online background: its plate's derived images (grey derivatives, skin mask) are
+    recomputed every this many frames."""
+
     def __post_init__(self) -> None:
         if self.skin_space not in SKIN_SPACES:
             raise InputError(f"skin_space must be one of {', '.join(SKIN_SPACES)}, got {self.skin_space!r}")
+        if self.bg_model not in BACKGROUND_MODELS:
+            raise InputError(f"bg_model must be one of {', '.join(BACKGROUND_MODELS)}, got {self.bg_model!r}")
+        for name in ("bg_online_rate", "bg_online_change_rate"):
+            if not 0 < getattr(self, name) <= 1:
+                raise InputError(f"{name} must be within (0, 1], got {getattr(self, name)}")
         if not 0 <= self.rgb_rg_min <= self.rgb_rg_max <= 255:
             raise InputError(f"need 0 <= rgb_rg_min <= rgb_rg_max <= 255, got {self.rgb_rg_min}, {self.rgb_rg_max}")
         for name in (
@@ -339,6 +386,8 @@ class FeatureConfig:
             "bg_mask_dilate",
             "bg_person_dilate",
             "bg_person_match",
+            "bg_online_margin",
+            "bg_online_busy_dilate",
             "blob_ring",
             "blob_min_changed",
             "blob_min_room_outline",
@@ -365,6 +414,7 @@ class FeatureConfig:
             "min_shoulder_px",
             "startup_shoulder_faces",
             "bg_lead_seconds",
+            "bg_online_reach",
         ):
             if not getattr(self, name) > 0:
                 raise InputError(f"{name} must be positive, got {getattr(self, name)}")
@@ -377,7 +427,14 @@ class FeatureConfig:
                 raise InputError(f"{name} must be within 0..1, got {getattr(self, name)}")
         if not self.bg_grabcut_scale >= 1:
             raise InputError(f"bg_grabcut_scale must be >= 1, got {self.bg_grabcut_scale}")
-        for name in ("bg_grabcut_iterations", "bg_grabcut_runs", "bg_inpaint_radius", "bg_face_samples"):
+        for name in (
+            "bg_grabcut_iterations",
+            "bg_grabcut_runs",
+            "bg_inpaint_radius",
+            "bg_face_samples",
+            "bg_online_refresh",
+            "bg_online_grabcut_runs",
+        ):
             if getattr(self, name) < 1:
                 raise InputError(f"{name} must be >= 1, got {getattr(self, name)}")
         if self.bg_max_samples < 3:

@@ -166,11 +166,33 @@ class FeatureExtractor:
         self._face_zone = ((x + w / 2, y + h / 2), HEAD_ZONE_FACES * w)
         if self.person_skin is not None:
             # The room in the person's skin colour, as `Background.skin` is in the generic rule's.
-            room = self.person_skin.mask(self.background.plate, room=True)
-            if cfg.background_skin_dilate > 1:
-                room = cast(Mask, cv2.dilate(room, cast(npt.NDArray[np.uint8], square(cfg.background_skin_dilate))))
-            self._not_background_skin = cv2.bitwise_not(cv2.bitwise_or(room, self.background.skin))
+            self._not_background_skin = self._not_room_skin(self.person_skin)
         return self.person_skin
+
+    def set_background(self, background: Background) -> None:
+        """Compares the next frames with another background of the same size.
+
+        The online background's refresh; the previous frame (I_motion) and a learnt skin
+        colour are kept.
+
+        Raises:
+            ValueError: a background of another size.
+        """
+        if background.size != self.background.size:
+            raise InputError(f"the new background is {background.size}, the old one {self.background.size}")
+        self.background = background.with_config(self.config)
+        self._exposure = ExposureMeter(self.background.plate, self.config.exposure_step)
+        if self.person_skin is None:
+            self._not_background_skin = cv2.bitwise_not(self.background.skin)
+        else:
+            self._not_background_skin = self._not_room_skin(self.person_skin)
+
+    def _not_room_skin(self, person: PersonSkin) -> Mask:
+        """Pixels where the plate shows neither the generic rule's nor the person's skin colour."""
+        room = person.mask(self.background.plate, room=True)
+        if self.config.background_skin_dilate > 1:
+            room = cast(Mask, cv2.dilate(room, cast(npt.NDArray[np.uint8], square(self.config.background_skin_dilate))))
+        return cast(Mask, cv2.bitwise_not(cv2.bitwise_or(room, self.background.skin)))
 
     def forget_skin(self) -> None:
         """Back to the generic skin rule (the person left)."""

@@ -125,7 +125,17 @@ def person_in_median(image: Frame, samples: Sequence[Frame], config: FeatureConf
     if face is None:
         return None
     height, width = image.shape[:2]
-    seed = grabcut_seed((height, width), face, config.bg_person)
+    return grabcut_person(image, grabcut_seed((height, width), face, config.bg_person), config)
+
+
+def grabcut_person(image: Frame, seed: Mask, config: FeatureConfig) -> Mask | None:
+    """The person in `image` by GrabCut from `seed` (`cv2.GC_*` labels, as `grabcut_seed`'s).
+
+    Returns:
+        `(H, W)` uint8, 255 on the person; None when GrabCut cannot run (no room or no person
+        in the seed, or too few pixels for a colour model).
+    """
+    height, width = image.shape[:2]
     scale = config.bg_grabcut_scale
     small_size = (max(1, round(width / scale)), max(1, round(height / scale)))
     small = cast(Frame, cv2.resize(image, small_size, interpolation=cv2.INTER_AREA))
@@ -146,4 +156,4 @@ def person_in_median(image: Frame, samples: Sequence[Frame], config: FeatureConf
     return cast(Mask, cv2.resize(person, (width, height), interpolation=cv2.INTER_NEAREST))
 
 
-__all__ = ["face_of_median", "find_face", "grabcut_seed", "person_in_median"]
+__all__ = ["face_of_median", "find_face", "grabcut_person", "grabcut_seed", "person_in_median"]

@@ -49,7 +49,11 @@ class OutputPaths:
 
 @dataclass(frozen=True)
 class Tracked:
-    """How a tracked video went: frame counts by status, run time and the files written."""
+    """How a tracked video went: frame counts by status, run time and the files written.
+
+    `face_only_frames` is the stable-face frames after which start-up went ahead without its
+    blob check (fewer while the background is learnt).
+    """
 
     frames: int
     tracked: int
@@ -58,6 +62,7 @@ class Tracked:
     first_posed: int | None
     run_time_s: float
     clean_plate: bool
+    face_only_frames: int
     written: tuple[Path, ...]
     interrupted: bool
 
@@ -208,6 +213,7 @@ def track_to_files(
         first_posed=recorder.first_posed,
         run_time_s=run_time,
         clean_plate=run_.clean_plate,
+        face_only_frames=run_.tracker.face_only_frames,
         written=tuple(written),
         interrupted=interrupted,
     )

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import os
 import time
+import warnings
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 
@@ -15,7 +16,7 @@ import numpy as np
 import numpy.typing as npt
 
 from upperpose.exceptions import InputError
-from upperpose.features import Background, FeatureConfig, background_from_video
+from upperpose.features import Background, CleanPlateWarning, FeatureConfig, background_from_video
 from upperpose.fit.tracker import Fitter, Tracker, TrackerConfig, TrackResult
 from upperpose.io.video import Frame, VideoReader, is_stream_url, read_background
 from upperpose.model import BodyModel, Camera
@@ -25,12 +26,14 @@ BackgroundLike = Background | npt.NDArray[np.uint8] | str | os.PathLike[str] | N
 
 def load_background(
     background: BackgroundLike, video: str | os.PathLike[str] | int, size: tuple[int, int], config: FeatureConfig | None
-) -> tuple[Background, bool]:
+) -> tuple[Background | None, bool]:
     """The background model and whether it came from a clean plate.
 
     Args:
-        background: a `Background`, a plate image, a path to one, or None (estimate from the
-            video, with a `CleanPlateWarning`).
+        background: a `Background`, a plate image, a path to one, or None: no clean plate, with
+            a `CleanPlateWarning`; the result is then a plate estimated from the whole video
+            first (`bg_model` "prepass", the default for files) or None: the tracker learns the
+            background while tracking (`bg_model` "online", and always for a live source).
         video: the video (to estimate from).
         size: the video's `(height, width)`.
         config: feature thresholds.
@@ -41,8 +44,14 @@ def load_background(
     """
     config = config or FeatureConfig()
     if background is None:
-        if isinstance(video, int) or is_stream_url(video):
-            raise InputError("a live source needs --background (a photo of the empty scene from the same camera)")
+        if isinstance(video, int) or is_stream_url(video) or config.bg_model == "online":
+            warnings.warn(
+                "no clean plate given: the background is learnt from the video while tracking; "
+                "a photo of the empty scene (--background) gives better silhouettes",
+                CleanPlateWarning,
+                stacklevel=2,
+            )
+            return None, False
         return background_from_video(video, config), False
     if isinstance(background, Background):
         plate_size = background.size
@@ -59,7 +68,10 @@ def load_background(
 
 @dataclass
 class StageTimes:
-    """Wall seconds per frame and stage: decode, features, search, output (filled by the caller)."""
+    """Wall seconds per frame and stage: decode, features, search, output (filled by the caller).
+
+    Features include learning the background when there is no clean plate.
+    """
 
     decode: list[float] = field(default_factory=list)
     features: list[float] = field(default_factory=list)
@@ -70,7 +82,7 @@ class StageTimes:
         """Records decode time and the tracker's own split of one frame."""
         t = result.timings
         self.decode.append(decode)
-        self.features.append(t.get("features", 0.0) + t.get("startup", 0.0))
+        self.features.append(t.get("features", 0.0) + t.get("startup", 0.0) + t.get("background", 0.0))
         self.search.append(t.get("search", 0.0))
         self.output.append(t.get("other", 0.0))
 

@@ -22,7 +22,9 @@ import numpy.typing as npt
 
 from upperpose._upperpose import joint_limits
 from upperpose.exceptions import InputError
-from upperpose.features import Background, FeatureConfig, FeatureExtractor, FrameFeatures
+from upperpose.features import Background, FeatureConfig, FeatureExtractor, FrameFeatures, skin_mask
+from upperpose.features.checks import check_frame
+from upperpose.features.online import OnlineBackground, body_region
 from upperpose.fit.confidence import joint_confidence
 from upperpose.fit.reach import ArmReach, hand_target, unexplained
 from upperpose.fit.recovery import (
@@ -65,6 +67,10 @@ from upperpose.result import NO_PERSON, TrackResult
 
 FloatArray = npt.NDArray[np.float64]
 PARTS = ("torso", "right_arm", "left_arm")
+# Without a plate, the body around a detected face is not learnt for this many frames after the
+# face was last detected: the cascade misses a face now and then, and a pixel never seen would be
+# learnt at once (half a second at 30 fps).
+FACE_HOLD_FRAMES = 15
 # Angle indices per searched part (ANGLE_NAMES order).
 PART_ANGLES = {"torso": slice(0, 3), "right_arm": slice(3, 8), "left_arm": slice(8, 13)}
 
@@ -124,6 +130,9 @@ class TrackerConfig:
         face_only_frames: after this many frames in a row with a stable face but no three
             clean skin blobs (a skin-coloured shirt swallows the hands), start anyway from the
             A-pose with average arms.
+        face_only_frames_learnt: the same while the background is learnt (no clean plate):
+            until the first fit the room behind the person is a guess (inpainted), and
+            skin-coloured room there joins the hands' blobs, so the blob check rarely passes.
         leave_frames: frames in a row without the person before going back to "no_person".
         presence_share: the person is present while at least this share of the model's last
             projection is covered by the silhouette, or the head's skin blob lies within a
@@ -182,6 +191,7 @@ class TrackerConfig:
     skip_static: bool = True
     confirm_frames: int = 3
     face_only_frames: int = 15
+    face_only_frames_learnt: int = 3
     leave_frames: int = 8
     presence_share: float = 0.3
     lost_threshold: float = 1.0
@@ -222,7 +232,14 @@ class TrackerConfig:
         if self.seed >= 2**64:
             raise InputError(f"seed must be below 2**64, got {self.seed}")
         whole("confirm_frames", 1, self.confirm_frames)
-        for name in ("face_only_frames", "leave_frames", "lost_frames", "doubt_frames", "reach_candidates"):
+        for name in (
+            "face_only_frames",
+            "face_only_frames_learnt",
+            "leave_frames",
+            "lost_frames",
+            "doubt_frames",
+            "reach_candidates",
+        ):
             whole(name, 0, getattr(self, name))
         for name in ("presence_share", "velocity_damping"):
             real(name, getattr(self, name), 0.0, 1.0)
@@ -292,7 +309,8 @@ class Tracker:
 
     Args:
         camera: the camera (`Camera.for_image(w, h, focal)`).
-        background: a `Background`, or a clean plate `(H, W, 3)` uint8 BGR image.
+        background: a `Background`, or a clean plate `(H, W, 3)` uint8 BGR image; None learns
+            the background from the frames while tracking (`features.online`; no clean plate).
         config: tracker settings.
         fps: frame rate, for the search's trajectory windows when `update` gets no timestamps.
         body: dimensions to start the start-up measurement from (adult averages when None).
@@ -323,7 +341,7 @@ class Tracker:
     def __init__(
         self,
         camera: Camera,
-        background: Background | npt.NDArray[np.uint8],
+        background: Background | npt.NDArray[np.uint8] | None,
         config: TrackerConfig | None = None,
         *,
         fps: float = 30.0,
@@ -334,13 +352,17 @@ class Tracker:
         self.camera = camera
         self.config = config or TrackerConfig()
         cfg = self.config
-        if not isinstance(background, Background):
-            background = Background.from_plate(np.asarray(background), cfg.features or FeatureConfig())
-        self.background = background
-        self.size = background.size
-        check_camera_fits(camera, self.size[1], self.size[0])
+        # Without a background the first frame starts the online model and the features.
+        self._online: OnlineBackground | None = None
+        self._first_faces: list[FaceBox] | None = None
+        self._features: FrameFeatures | None = None
+        self._held_faces: tuple[list[FaceBox], int] = ([], 0)  # last detected faces, frames left
+        self._extract: FeatureExtractor | None = None
+        self.background: Background | None = None
+        self.size = (0, 0)  # (height, width), known from the background or the first frame
+        if background is not None:
+            self._set_background(background)
         self.fps = float(fps) if fps and fps > 0 else 30.0
-        self._extract = FeatureExtractor(background, cfg.features, reuse_buffers=True)
         self._fitter: Fitter = fitter or fit_frame
         self._search_config = cfg.search_config()
         self._detect_faces = face_detector or FaceDetector()
@@ -371,10 +393,22 @@ class Tracker:
         """The person's measured body model (the start-up averages before start-up)."""
         return self._body
 
+    @property
+    def learns_background(self) -> bool:
+        """Whether the background is learnt from the frames (no clean plate was given)."""
+        return self._online is not None or self._extract is None
+
+    @property
+    def face_only_frames(self) -> int:
+        """Frames of a stable face after which start-up goes ahead without the blob check."""
+        cfg = self.config
+        return cfg.face_only_frames_learnt if self.learns_background else cfg.face_only_frames
+
     def reset(self) -> None:
         """Forgets the person and the previous frame (after a cut or a seek)."""
         self.state.reset()
-        self._extract.reset()
+        if self._extract is not None:
+            self._extract.reset()
         self._reset_person()
 
     def force_lost(self, arm: str) -> None:
@@ -412,23 +446,84 @@ class Tracker:
             if self._last_time is not None and timestamp > self._last_time:
                 interval = float(np.clip(timestamp - self._last_time, 1e-3, 1.0))
             self._last_time = timestamp
+        if self._extract is None:
+            self._start_background(frame)
         if self.state.has_person:
-            return self._track(frame, index, interval)
-        return self._look_for_person(frame, index)
+            result = self._track(frame, index, interval)
+        else:
+            result = self._look_for_person(frame, index)
+        if self._online is not None:
+            t0 = time.perf_counter()
+            self._learn_background(frame)
+            result.timings["background"] = time.perf_counter() - t0
+        return result
+
+    # -- the background without a clean plate -------------------------------------------------
+
+    @property
+    def _extractor(self) -> FeatureExtractor:
+        if self._extract is None:
+            raise RuntimeError("the features start with the first frame")
+        return self._extract
+
+    def _set_background(self, background: Background | npt.NDArray[np.uint8]) -> None:
+        if not isinstance(background, Background):
+            background = Background.from_plate(np.asarray(background), self.config.features or FeatureConfig())
+        self.background = background
+        self.size = background.size
+        check_camera_fits(self.camera, self.size[1], self.size[0])
+        self._extract = FeatureExtractor(background, self.config.features, reuse_buffers=True)
+
+    def _start_background(self, frame: npt.NDArray[np.uint8]) -> None:
+        """Starts the online background from the first frame, the body around its face left out."""
+        config = self.config.features or FeatureConfig()
+        frame = check_frame(frame, "frame")
+        self._first_faces = self._detect_faces(frame)
+        face = choose_face(self._first_faces, skin_mask(frame, config))
+        self._online = OnlineBackground(frame, [face] if face is not None else [], config)
+        self._set_background(self._online.background)
+
+    def _learn_background(self, frame: npt.NDArray[np.uint8]) -> None:
+        """Teaches the online background this frame away from the person.
+
+        The person: the model's projection once tracked, else the body region around the faces
+        detected in the last `FACE_HOLD_FRAMES` frames; skin and motion are held too where the
+        model has seen the room.
+        """
+        online, features = cast(OnlineBackground, self._online), self._features
+        faces, left = self._held_faces
+        self._held_faces = (faces, left - 1) if left > 1 else ([], 0)
+        if self._labels is not None:
+            person = self._labels
+        elif left > 0:
+            person = body_region(self.size, faces, online.config)
+        else:
+            person = None
+        busy: npt.NDArray[np.uint8] | None = None
+        changed = None
+        if features is not None:
+            busy, changed = np.bitwise_or(features.skin, features.motion), features.sub
+        if online.learn(frame, person, busy, changed):
+            self._extractor.set_background(online.background)
+            self.background = online.background
 
     # -- start-up -----------------------------------------------------------------------------
 
     def _look_for_person(self, frame: npt.NDArray[np.uint8], index: int) -> TrackResult:
         t0 = time.perf_counter()
-        features = self._extract(frame)
+        features = self._features = self._extractor(frame)
         t1 = time.perf_counter()
-        face = choose_face(self._detect_faces(frame), features.skin)
+        boxes = self._first_faces if self._first_faces is not None else self._detect_faces(frame)
+        self._first_faces = None
+        if boxes:
+            self._held_faces = (boxes, FACE_HOLD_FRAMES)
+        face = choose_face(boxes, features.skin)
         # The person's own skin colour, from each face until tracking starts: start-up then
         # measures the same skin blobs the tracking will see.
         if face is None:
-            self._extract.forget_skin()
+            self._extractor.forget_skin()
         else:
-            self._extract.learn_skin(frame, face)
+            self._extractor.learn_skin(frame, face)
         passed = False
         points = np.full((3, 2), np.nan)
         if face is not None:
@@ -438,11 +533,11 @@ class Tracker:
             )
             self._face_streak = self._face_streak + 1 if stable or self._last_face is None else 1
             self._face_widths = ([*self._face_widths, float(face[2])] if stable else [float(face[2])])[-10:]
-            points = startup_points(face, features.blobs, self._extract.config)
+            points = startup_points(face, features.blobs, self._extractor.config)
             check = check_apose(points, face[2])
             # Not while the face moves half its width a frame: a person walking in is measured
             # mid-stride.
-            passed = bool(stable) and (check.passed or self._face_streak >= self.config.face_only_frames)
+            passed = bool(stable) and (check.passed or self._face_streak >= self.face_only_frames)
             if not check.passed:
                 points[1:] = np.nan  # face-only start-up: average arms
         else:
@@ -529,7 +624,7 @@ class Tracker:
         predicted_joints = project(self.camera, model_points(prediction, self._root.root, self.body))
         for arm, xy in self._followed.items():
             predicted_joints[HAND_JOINT[arm]] = xy
-        features = self._extract(frame, predicted_joints, self._labels)
+        features = self._features = self._extractor(frame, predicted_joints, self._labels)
         root = self._root.update(features, prediction, self._last_root)
         t1 = time.perf_counter()
 
@@ -846,7 +941,8 @@ class Tracker:
         return np.asarray(cv2.resize(small, (width, height), interpolation=cv2.INTER_NEAREST), dtype=np.uint8)
 
     def _reset_person(self) -> None:
-        self._extract.forget_skin()
+        if self._extract is not None:
+            self._extract.forget_skin()
         self._body = self._base_body
         self._pose = Pose.a_pose().angles.copy()
         self._previous_pose = self._pose.copy()
