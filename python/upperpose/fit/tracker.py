@@ -459,10 +459,11 @@ class Tracker:
         if self.state.startup(face is not None, passed) and face is not None:
             pose = Pose.a_pose().angles
             chosen = self._measure(features, face, points, pose, index)
-            if cfg.any_pose_frames > 0 and not self._explains(features, chosen, index, "A-pose"):
+            # Judged by the hands found around the face at any height.
+            wide = any_pose_points(features, face, self._extract.config)
+            if cfg.any_pose_frames > 0 and not self._explains(wide, chosen, index, "A-pose"):
                 # The check passes on other poses too (a hand raised beside the head is still
-                # "below" it): a fit from any pose that explains the silhouette is taken instead.
-                wide = any_pose_points(features, face, self._extract.config)
+                # "below" it): a fit from any pose that explains the frame is taken instead.
                 other = self._acquire(wide, face, index)
                 if self._explains(wide, other, index, "any-pose"):
                     features, chosen, pose = wide, other, np.asarray(other.fit.pose, dtype=np.float64)
