@@ -463,9 +463,12 @@ class Tracker:
             wide = any_pose_points(features, face, self._extract.config)
             if cfg.any_pose_frames > 0 and not self._explains(wide, chosen, index, "A-pose"):
                 # The check passes on other poses too (a hand raised beside the head is still
-                # "below" it): a fit from any pose that explains the frame is taken instead.
+                # "below" it): a fit from any pose that explains the frame, and costs less in the
+                # same image regions, is taken instead.
                 other = self._acquire(wide, face, index)
-                if self._explains(wide, other, index, "any-pose"):
+                if self._explains(wide, other, index, "any-pose") and self._rescored(
+                    wide, other, index
+                ) < self._rescored(wide, chosen, index):
                     features, chosen, pose = wide, other, np.asarray(other.fit.pose, dtype=np.float64)
             fit = self._begin(features, face, chosen, pose)
         elif face is not None and stable and not passed and 0 < cfg.any_pose_frames <= self._face_streak:
@@ -512,6 +515,13 @@ class Tracker:
             far,
         )
         return share.passes(cfg.acquire_on_silhouette, cfg.acquire_explained) and not far
+
+    def _rescored(self, features: FrameFeatures, chosen: StartupFit, index: int) -> float:
+        """A start-up fit's cost in the full-range search's regions (comparable between fits)."""
+        fit = chosen.fit
+        pose, root = np.ascontiguousarray(fit.pose, dtype=np.float64), np.ascontiguousarray(fit.root, dtype=np.float64)
+        args = dict(self._startup_fit_args(index), mode="initial", window_scale=1.0, search=())
+        return float(self._fitter(features, pose, root, chosen.body, self.camera, **args).cost)
 
     def _startup_fit_args(self, index: int) -> dict[str, Any]:
         angle_scales = np.ones(13)
