@@ -6,13 +6,16 @@ import dataclasses
 import functools
 from typing import Any
 
+import cv2
 import numpy as np
 import pytest
 
 import upperpose
+from upperpose.features import Background, FeatureExtractor
 from upperpose.fit import NO_PERSON, TRACKED, StateMachine, StaticFit, Tracker, TrackerConfig
 from upperpose.fit.acquire import agreement, global_fit, restart_seed
 from upperpose.fit.search import reseeded
+from upperpose.fit.startup import any_pose_points, startup_points
 from upperpose.lab.synth import ClipConfig, ClipPlan, motion_angles, plan_clip, render_frame
 from upperpose.lab.synth.scene import clean_plate
 
@@ -36,6 +39,25 @@ def test_agreement_of_rectangles() -> None:
     assert agreement(sil, labels, margin=61).explained == pytest.approx(1.0)  # 30 px of growth reach it
     assert not share.passes(0.6, 0.7) and share.passes(0.6, 0.6)
     assert agreement(sil, np.zeros_like(sil)) == type(share)(0.0, 0.0)
+
+
+def test_a_hand_raised_beside_the_head_is_a_hand() -> None:
+    plate = np.full((240, 320, 3), 90, np.uint8)
+    frame = plate.copy()
+    skin = (110, 140, 200)
+    cv2.ellipse(frame, (160, 60), (14, 18), 0, 0, 360, skin, -1)  # the head
+    cv2.rectangle(frame, (95, 20), (110, 70), skin, -1)  # the right hand, raised beside it
+    cv2.rectangle(frame, (200, 120), (212, 165), skin, -1)  # the left hand, down
+    extract = FeatureExtractor(Background.from_plate(plate))
+    features = extract(frame)
+    face = (146, 44, 28, 32)
+    # Without a prediction the highest of the three largest blobs is the head: the raised hand.
+    assert features.points_array()[0][0] == pytest.approx(102.5)
+    points = any_pose_points(features, face, extract.config).points_array()
+    assert np.allclose(points[0], [159.5, 59.5])  # the face centre
+    assert 95 <= points[1][0] <= 110 and points[1][1] < 45  # the raised hand's far end, above
+    assert 200 <= points[2][0] <= 212 and points[2][1] > 145  # the lowered hand's far end, below
+    assert np.all(np.isnan(startup_points(face, features.blobs, extract.config)[1]))  # the A-pose check's: none
 
 
 def test_state_machine_starts_at_once() -> None:

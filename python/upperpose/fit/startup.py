@@ -1,5 +1,8 @@
 """Start-up (thesis §3.3, SPEC 6): find a frontal face, check the A-pose, measure the person.
 
+(Start-up from any other pose is `upperpose.fit.acquire`; its head and hand points are
+`any_pose_points` here.)
+
 A person is present when OpenCV's frontal Haar cascade finds a face and three skin blobs (head,
 two hands) pass the geometry of Eq. 3.3.1-1: r_d = min(d1, d2) / max(d1, d2) >= 0.6 and
 3 <= d3 / face width <= 12. The face detector runs only while no person is tracked.
