@@ -1,10 +1,11 @@
 """`Tracker`: video frames in, 3D upper-body poses out, one `update(frame)` at a time.
 
 The loop of the thesis' flowchart (Fig. 3.6-1): while nobody is tracked, look for a frontal face
-and the A-pose (start-up, §3.3) or fit any pose around the face (`fit/acquire.py`); then per frame predict the pose (constant velocity), extract
-the features around the prediction, estimate the root, search the moving parts (motion flags,
-§3.4.3) inside trajectory windows, and check for lost hands (§3.4.9), which are searched over
-their anatomical ranges until found. See docs/tracker.md.
+and the A-pose (start-up, §3.3), or fit any pose around the face (`fit/acquire.py`); then per
+frame predict the pose (constant velocity), extract the features around the prediction,
+estimate the root, search the moving parts (motion flags, §3.4.3) inside trajectory windows,
+and check for lost hands (§3.4.9), which are searched over their anatomical ranges until
+found. See docs/tracker.md.
 """
 
 from __future__ import annotations
