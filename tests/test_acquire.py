@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 import upperpose
+from upperpose.exceptions import InputError
 from upperpose.features import Background, FeatureExtractor
 from upperpose.fit import NO_PERSON, TRACKED, StateMachine, StaticFit, Tracker, TrackerConfig
 from upperpose.fit.acquire import agreement, global_fit, restart_seed
@@ -58,6 +59,21 @@ def test_a_hand_raised_beside_the_head_is_a_hand() -> None:
     assert 95 <= points[1][0] <= 110 and points[1][1] < 45  # the raised hand's far end, above
     assert 200 <= points[2][0] <= 212 and points[2][1] > 145  # the lowered hand's far end, below
     assert np.all(np.isnan(startup_points(face, features.blobs, extract.config)[1]))  # the A-pose check's: none
+
+
+@pytest.mark.parametrize(
+    "bad",
+    [
+        {"any_pose_frames": -1},
+        {"acquire_restarts": 1.5},
+        {"acquire_on_silhouette": 1.2},
+        {"acquire_explained": -0.1},
+        {"acquire_hand_share": float("nan")},
+    ],
+)
+def test_bad_any_pose_settings_are_refused(bad: dict) -> None:
+    with pytest.raises(InputError, match=next(iter(bad))):
+        TrackerConfig(**bad)
 
 
 def test_state_machine_starts_at_once() -> None:
