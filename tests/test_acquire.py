@@ -17,6 +17,7 @@ from upperpose.fit import NO_PERSON, TRACKED, StateMachine, StaticFit, Tracker, 
 from upperpose.fit.acquire import agreement, global_fit, restart_seed
 from upperpose.fit.search import reseeded
 from upperpose.fit.startup import any_pose_points, startup_points
+from upperpose.lab.startup_frames import startup_frames
 from upperpose.lab.synth import ClipConfig, ClipPlan, motion_angles, plan_clip, render_frame
 from upperpose.lab.synth.scene import clean_plate
 
@@ -209,3 +210,19 @@ def test_a_person_who_leaves_and_comes_back_in_another_pose_is_tracked_again() -
     regained = next(r.frame for r in results[back:] if r.pose is not None)
     assert regained - back <= FPS  # within a second of the return
     _follows(plan, results[regained:])
+
+
+def test_startup_frames_of_a_pose_file() -> None:
+    statuses = ["no_person", "initialising", "no_person", "initialising", "initialising", "tracked", "lost"]
+    poses = {
+        "frames": [
+            {"frame": i, "status": s, "joints_2d": [[0, 0]] * 7 if s in ("tracked", "lost") else None}
+            for i, s in enumerate(statuses)
+        ]
+    }
+    assert startup_frames(poses) == {"face": 1, "stable": 4, "pose": 5}
+    assert startup_frames({"frames": [{"frame": 0, "status": "no_person", "joints_2d": None}]}) == {
+        "face": None,
+        "stable": None,
+        "pose": None,
+    }
