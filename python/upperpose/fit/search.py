@@ -109,10 +109,14 @@ def fit_frame(
     )
 
 
+# SearchConfig's keyword options, which are also its attributes (read once: `inspect` parses
+# the core's text signature each time).
+_OPTIONS = tuple(name for name in inspect.signature(SearchConfig).parameters if name != "seed")
+
+
 def reseeded(config: SearchConfig, seed: int) -> SearchConfig:
     """A copy of `config` with another seed (the core's settings cannot be changed in place)."""
-    names = [name for name in inspect.signature(SearchConfig).parameters if name != "seed"]
-    return SearchConfig(**{name: getattr(config, name) for name in names}, seed=seed)
+    return SearchConfig(**{name: getattr(config, name) for name in _OPTIONS}, seed=seed)
 
 
 def bit_plane(features: BitFeatures, name: str) -> npt.NDArray[np.uint64]:
