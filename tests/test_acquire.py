@@ -167,8 +167,10 @@ def _rendered(kind: str) -> tuple[ClipPlan, list[np.ndarray]]:
     return plan, [render_frame(plan, i)[0] for i in range(len(angles))]
 
 
-def _track(plan: ClipPlan, frames: list[np.ndarray]) -> list[upperpose.TrackResult]:
-    tracker = Tracker(plan.camera, clean_plate(plan), TrackerConfig(), fps=FPS)
+def _track(
+    plan: ClipPlan, frames: list[np.ndarray], config: TrackerConfig | None = None
+) -> list[upperpose.TrackResult]:
+    tracker = Tracker(plan.camera, clean_plate(plan), config or TrackerConfig(), fps=FPS)
     return [tracker.update(frame) for frame in frames]
 
 
@@ -199,6 +201,15 @@ def test_a_clip_that_starts_mid_motion_starts_within_15_frames() -> None:
     start = next(r.frame for r in results if r.pose is not None)
     assert start < 15
     _follows(plan, results[start:])
+
+
+def test_without_any_pose_fits_the_a_pose_check_starts_the_waving_clip_wrong() -> None:
+    # Why the A-pose fit is put to the test: the raised hand counts as "below" the head, the
+    # check passes, and the fit around the A-pose leaves the arm straight.
+    plan, frames = _rendered("midstart")
+    results = _track(plan, frames, TrackerConfig(any_pose_frames=0))
+    start = next(r for r in results if r.pose is not None)
+    assert start.frame < 15 and np.max(_arm_errors(plan, start)) > _shoulder_px(plan, start.frame) / 2
 
 
 def test_a_person_who_leaves_and_comes_back_in_another_pose_is_tracked_again() -> None:
