@@ -53,26 +53,37 @@ def face_centre(face: FaceBox) -> npt.NDArray[np.float64]:
     return np.array([x + (w - 1) / 2.0, y + (h - 1) / 2.0])
 
 
-def hand_blobs(face: FaceBox, blobs: list[SkinBlob], below: bool = True) -> dict[int, int]:
-    """The hand blob on each side of the face: point slot (1 right, 2 left) -> blob index.
+def hand_candidates(face: FaceBox, blobs: list[SkinBlob], below: bool = True) -> list[int]:
+    """Indices of the blobs that may be hands.
 
-    Candidates are blobs clear of the face box, whose centroid lies within seven face widths of
-    the face and which are at most 2.5 face areas (a bare forearm and hand is about one; a
-    skin-coloured shirt or khaki trousers are one huge blob); with `below`, only those whose
-    centroid lies below the face (the A-pose). On each side of the face the largest is the hand.
+    Blobs clear of the face box, whose centroid lies within seven face widths of the face and
+    which are at most 2.5 face areas (a bare forearm and hand is about one; a skin-coloured
+    shirt or khaki trousers are one huge blob); with `below`, only those whose centroid lies
+    below the face (the A-pose).
     """
     x, y, w, h = face
     head = face_centre(face)
-    sides: dict[int, int] = {}
+    out = []
     for index, blob in enumerate(blobs):
         cx, cy = blob.centroid
         bx, by, bw, bh = blob.bbox
         overlaps = bx < x + w and bx + bw > x and by < y + h and by + bh > y
         far = np.hypot(cx - head[0], cy - head[1]) > 7.0 * w
-        if overlaps or far or (below and cy < head[1] + 0.5 * w) or blob.area > 2.5 * w * h:
-            continue
-        slot = 1 if cx < head[0] else 2  # image left = the subject's right hand
-        if slot not in sides or blob.area > blobs[sides[slot]].area:
+        if not (overlaps or far or (below and cy < head[1] + 0.5 * w) or blob.area > 2.5 * w * h):
+            out.append(index)
+    return out
+
+
+def hand_blobs(face: FaceBox, blobs: list[SkinBlob], below: bool = True) -> dict[int, int]:
+    """The hand blob on each side of the face: point slot (1 right, 2 left) -> blob index.
+
+    On each side of the face the largest of the `hand_candidates` is the hand.
+    """
+    head = face_centre(face)
+    sides: dict[int, int] = {}
+    for index in hand_candidates(face, blobs, below):
+        slot = 1 if blobs[index].centroid[0] < head[0] else 2  # image left = the subject's right hand
+        if slot not in sides or blobs[index].area > blobs[sides[slot]].area:
             sides[slot] = index
     return sides
 
@@ -387,6 +398,7 @@ __all__ = [
     "face_centre",
     "fit_bodies",
     "hand_blobs",
+    "hand_candidates",
     "hand_point",
     "head_raised",
     "measure_body",

@@ -33,7 +33,6 @@ from upperpose.fit.recovery import (
     DoubtDetector,
     HandFollower,
     LostDetector,
-    far_hands,
     hand_distances,
     unexplained_by_side,
 )
@@ -48,6 +47,8 @@ from upperpose.fit.startup import (
     choose_face,
     face_centre,
     fit_bodies,
+    hand_candidates,
+    hand_point,
     head_raised,
     measure_body,
     pixels_per_metre,
@@ -460,14 +461,13 @@ class Tracker:
         if self.state.startup(face is not None, passed) and face is not None:
             pose = Pose.a_pose().angles
             chosen = self._measure(features, face, points, pose, index)
-            # Judged by the hands found around the face at any height.
             wide = any_pose_points(features, face, self._extract.config)
-            if cfg.any_pose_frames > 0 and not self._explains(wide, chosen, index, "A-pose"):
+            if cfg.any_pose_frames > 0 and not self._explains(wide, face, chosen, index, "A-pose"):
                 # The check passes on other poses too (a hand raised beside the head is still
                 # "below" it): a fit from any pose that explains the frame, and costs less in the
                 # same image regions, is taken instead.
                 other = self._acquire(wide, face, index)
-                if self._explains(wide, other, index, "any-pose") and self._rescored(
+                if self._explains(wide, face, other, index, "any-pose") and self._rescored(
                     wide, other, index
                 ) < self._rescored(wide, chosen, index):
                     features, chosen, pose = wide, other, np.asarray(other.fit.pose, dtype=np.float64)
@@ -477,7 +477,9 @@ class Tracker:
             # anyway once the face has been stable for `face_only_frames`.
             features = any_pose_points(features, face, self._extract.config)
             chosen = self._acquire(features, face, index)
-            if not (self._explains(features, chosen, index, "any-pose") or self._face_streak >= cfg.face_only_frames):
+            if not (
+                self._explains(features, face, chosen, index, "any-pose") or self._face_streak >= cfg.face_only_frames
+            ):
                 timings.update(search=time.perf_counter() - t2)
                 return TrackResult(index, self.state.status, timings=timings)
             self.state.start()
@@ -495,17 +497,26 @@ class Tracker:
         timings["other"] = time.perf_counter() - t3
         return result
 
-    def _explains(self, features: FrameFeatures, chosen: StartupFit, index: int, what: str) -> bool:
-        """Whether a start-up fit explains the silhouette (`acquire_on_silhouette`, `acquire_explained`)."""
+    def _explains(self, features: FrameFeatures, face: FaceBox, chosen: StartupFit, index: int, what: str) -> bool:
+        """Whether a start-up fit explains the frame: the silhouette, and a skin blob at each hand.
+
+        The silhouette hardly tells a straight raised arm from a bent one; the hands do: each
+        fitted hand must lie near the `hand_point` (far end) of some blob that may be a hand
+        (`hand_candidates`). Not only the skin points' blobs: the largest blob on a side, which
+        they take, is sometimes a bare forearm apart from its hand (v03). Without any such
+        blob there is no evidence either way.
+        """
         cfg = self.config
         pose, root = np.asarray(chosen.fit.pose, dtype=np.float64), np.asarray(chosen.fit.root, dtype=np.float64)
         share = agreement(features.sil, self._render_labels(pose, root, chosen.body))
-        # The silhouette hardly tells a straight raised arm from a bent one: the hands tell.
         joints = project(self.camera, model_points(pose, root, chosen.body))
+        limit = cfg.acquire_hand_share * max(float(np.hypot(*(joints[1] - joints[2]))), 10.0)
+        candidates = hand_candidates(face, features.blobs, below=False)
+        points = [hand_point(face, features.blobs[i], self._extract.config) for i in candidates]
         far = [
             arm
-            for arm, off in far_hands(joints, hand_distances(joints, features), cfg.acquire_hand_share).items()
-            if off
+            for arm in ARMS
+            if points and min(float(np.hypot(*(joints[HAND_JOINT[arm]] - p))) for p in points) > limit
         ]
         log.debug(
             "frame %d: %s fit, %.2f of it on the silhouette, %.2f of the silhouette explained, hands far: %s",
