@@ -14,8 +14,9 @@ NAME = "track"
 OPTIMIZERS = ("apso", "pso", "simplex", "apsopf")
 HELP = (
     "track the upper body in a video or from a camera: poses as JSON (SPEC 9), optionally CSV, BVH and an "
-    "overlay video. Start-up needs a static camera and a visible frontal face; standing in the A-pose "
-    "starts it fastest, a clean plate (--background) makes it most accurate"
+    "overlay video. Start-up needs a static camera and a visible frontal face, in any upper-body pose (the "
+    "A-pose, arms down and slightly out, measures the arms best); a clean plate (--background) makes it "
+    "most accurate"
 )
 
 
@@ -225,7 +226,8 @@ def run(args: argparse.Namespace) -> int:
     if done.posed == 0:
         raise UpperposeError(
             f"tracking never started in {name} ({frames} frames): a face was seen but never held still "
-            f"long enough (the A-pose for {config.confirm_frames} frames in a row, or a steady face for "
+            f"long enough (a steady face for {max(config.any_pose_frames, 2)} frames and a fit that explains "
+            f"the silhouette, the A-pose for {config.confirm_frames} frames in a row, or a steady face for "
             f"{done.face_only_frames}); wrote {args.output} without a pose"
         )
     if not args.quiet:

@@ -5,6 +5,7 @@ See docs/cost.md for the cost terms and docs/search.md for the search.
 
 from __future__ import annotations
 
+import inspect
 from collections.abc import Iterable
 from typing import Literal, Protocol
 
@@ -108,6 +109,16 @@ def fit_frame(
     )
 
 
+# SearchConfig's keyword options, which are also its attributes (read once: `inspect` parses
+# the core's text signature each time).
+_OPTIONS = tuple(name for name in inspect.signature(SearchConfig).parameters if name != "seed")
+
+
+def reseeded(config: SearchConfig, seed: int) -> SearchConfig:
+    """A copy of `config` with another seed (the core's settings cannot be changed in place)."""
+    return SearchConfig(**{name: getattr(config, name) for name in _OPTIONS}, seed=seed)
+
+
 def bit_plane(features: BitFeatures, name: str) -> npt.NDArray[np.uint64]:
     """The bit plane `features.<name>`, refused unless it holds unsigned integers.
 
@@ -157,4 +168,4 @@ def merged_boxes(features: BitFeatures) -> npt.NDArray[np.float64] | None:
     return None if boxes is None else np.ascontiguousarray(boxes(), dtype=np.float64)
 
 
-__all__ = ["STAGES", "FrameFit", "Limits", "Mode", "Optimizer", "SearchConfig", "fit_frame"]
+__all__ = ["STAGES", "FrameFit", "Limits", "Mode", "Optimizer", "SearchConfig", "fit_frame", "reseeded"]

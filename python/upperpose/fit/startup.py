@@ -1,5 +1,8 @@
 """Start-up (thesis §3.3, SPEC 6): find a frontal face, check the A-pose, measure the person.
 
+(Start-up from any other pose is `upperpose.fit.acquire`; its head and hand points are
+`any_pose_points` here.)
+
 A person is present when OpenCV's frontal Haar cascade finds a face and three skin blobs (head,
 two hands) pass the geometry of Eq. 3.3.1-1: r_d = min(d1, d2) / max(d1, d2) >= 0.6 and
 3 <= d3 / face width <= 12. The face detector runs only while no person is tracked.
@@ -17,6 +20,7 @@ start-up frame with each candidate (`fit_bodies`).
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any, Literal
@@ -25,7 +29,7 @@ import numpy as np
 import numpy.typing as npt
 
 from upperpose.exceptions import InputError
-from upperpose.features import FeatureConfig, SkinBlob
+from upperpose.features import FeatureConfig, FrameFeatures, SkinBlob, SkinPoint
 from upperpose.features.faces import FaceBox, FaceDetector, choose_face
 from upperpose.features.points import far_end, principal_direction, unit
 from upperpose.model import BodyModel, Camera, Pose, model_points, project, render_masks
@@ -49,41 +53,86 @@ def face_centre(face: FaceBox) -> npt.NDArray[np.float64]:
     return np.array([x + (w - 1) / 2.0, y + (h - 1) / 2.0])
 
 
-def startup_points(face: FaceBox, blobs: list[SkinBlob], config: FeatureConfig) -> npt.NDArray[np.float64]:
-    """Head and hand points for the A-pose check: `(3, 2)` head, right hand, left hand; NaN if absent.
+def hand_candidates(face: FaceBox, blobs: list[SkinBlob], below: bool = True) -> list[int]:
+    """Indices of the blobs that may be hands.
 
-    The head is the face centre. Hand candidates are blobs clear of the face, whose centroid is
-    below the face and within seven face widths of it, and which are at most 2.5 face areas (a
-    bare forearm and hand is about one; a skin-coloured shirt or khaki trousers are one huge
-    blob); on each side of the face the largest is the hand, its point the blob's far end
-    along its long axis, pointing away from the head (short sleeves show the forearm too).
+    Blobs clear of the face box, whose centroid lies within seven face widths of the face and
+    which are at most 2.5 face areas (a bare forearm and hand is about one; a skin-coloured
+    shirt or khaki trousers are one huge blob); with `below`, only those whose centroid lies
+    below the face (the A-pose).
     """
     x, y, w, h = face
     head = face_centre(face)
-    points = np.full((3, 2), np.nan)
-    points[0] = head
-    shoulder_px = config.startup_shoulder_faces * w
-    sides: dict[int, SkinBlob] = {}
-    for blob in blobs:
+    out = []
+    for index, blob in enumerate(blobs):
         cx, cy = blob.centroid
         bx, by, bw, bh = blob.bbox
         overlaps = bx < x + w and bx + bw > x and by < y + h and by + bh > y
         far = np.hypot(cx - head[0], cy - head[1]) > 7.0 * w
-        if overlaps or far or cy < head[1] + 0.5 * w or blob.area > 2.5 * w * h:
-            continue
-        slot = 1 if cx < head[0] else 2  # image left = the subject's right hand
-        if slot not in sides or blob.area > sides[slot].area:
-            sides[slot] = blob
-    for slot, blob in sides.items():
-        outward = unit(np.subtract(blob.centroid, head))
-        axis = principal_direction(blob)
-        direction = outward
-        if axis is not None and outward is not None:
-            direction = axis if float(axis @ outward) >= 0 else -axis
-        points[slot] = (
-            far_end(blob, direction, config.hand_length * shoulder_px) if direction is not None else blob.centroid
-        )
+        if not (overlaps or far or (below and cy < head[1] + 0.5 * w) or blob.area > 2.5 * w * h):
+            out.append(index)
+    return out
+
+
+def hand_blobs(face: FaceBox, blobs: list[SkinBlob], below: bool = True) -> dict[int, int]:
+    """The hand blob on each side of the face: point slot (1 right, 2 left) -> blob index.
+
+    On each side of the face the largest of the `hand_candidates` is the hand.
+    """
+    head = face_centre(face)
+    sides: dict[int, int] = {}
+    for index in hand_candidates(face, blobs, below):
+        slot = 1 if blobs[index].centroid[0] < head[0] else 2  # image left = the subject's right hand
+        if slot not in sides or blobs[index].area > blobs[sides[slot]].area:
+            sides[slot] = index
+    return sides
+
+
+def hand_point(face: FaceBox, blob: SkinBlob, config: FeatureConfig) -> npt.NDArray[np.float64]:
+    """A hand blob's far end along its long axis, pointing away from the head.
+
+    (Short sleeves show the forearm too: the blob's centre is not the hand.)
+    """
+    head = face_centre(face)
+    outward = unit(np.subtract(blob.centroid, head))
+    axis = principal_direction(blob)
+    direction = outward
+    if axis is not None and outward is not None:
+        direction = axis if float(axis @ outward) >= 0 else -axis
+    if direction is None:
+        return np.asarray(blob.centroid, dtype=np.float64)
+    return np.asarray(far_end(blob, direction, config.hand_length * config.startup_shoulder_faces * face[2]))
+
+
+def startup_points(face: FaceBox, blobs: list[SkinBlob], config: FeatureConfig) -> npt.NDArray[np.float64]:
+    """Head and hand points for the A-pose check: `(3, 2)` head, right hand, left hand; NaN if absent.
+
+    The head is the face centre; the hands are the `hand_blobs` below the face, each at its
+    `hand_point`.
+    """
+    points = np.full((3, 2), np.nan)
+    points[0] = face_centre(face)
+    for slot, index in hand_blobs(face, blobs).items():
+        points[slot] = hand_point(face, blobs[index], config)
     return points
+
+
+def any_pose_points(features: FrameFeatures, face: FaceBox, config: FeatureConfig) -> FrameFeatures:
+    """The frame's features with head and hand points found around the face, in any pose.
+
+    Without a prediction the features take the three largest skin blobs and call the highest
+    the head (§3.3.2); a hand raised beside the head then becomes the head. Here the head is
+    the face (on the blob that holds its centre), and the hands are the `hand_blobs` at any
+    height.
+    """
+    centre = face_centre(face)
+    holder = next((i for i, blob in enumerate(features.blobs) if blob.distance_to(centre) == 0.0), None)
+    head = None if holder is None else SkinPoint((float(centre[0]), float(centre[1])), False, holder)
+    hands: list[SkinPoint | None] = [None, None]
+    for slot, index in hand_blobs(face, features.blobs, below=False).items():
+        x, y = hand_point(face, features.blobs[index], config)
+        hands[slot - 1] = SkinPoint((float(x), float(y)), False, index)
+    return dataclasses.replace(features, head=head, right_hand=hands[0], left_hand=hands[1])
 
 
 @dataclass(frozen=True)
@@ -342,11 +391,15 @@ __all__ = [
     "StartupFit",
     "FaceBox",
     "FaceDetector",
+    "any_pose_points",
     "check_apose",
     "choose_face",
     "depth_from_face",
     "face_centre",
     "fit_bodies",
+    "hand_blobs",
+    "hand_candidates",
+    "hand_point",
     "head_raised",
     "measure_body",
     "shoulder_span",

@@ -1,7 +1,7 @@
 """The tracker's status per frame and the rules that move it (SPEC 6, 9; thesis §3.3, §3.4.9).
 
 no_person --a face is found--> initialising --start-up check passes `confirm_frames`
-frames in a row--> tracked
+frames in a row, or a fit from any pose explains the silhouette--> tracked
 initialising --no face--> no_person
 tracked --a hand is lost--> lost --every hand found again--> tracked
 tracked / lost --the person is gone for `leave_frames`--> no_person
@@ -59,6 +59,12 @@ class StateMachine:
             return True
         self.status = INITIALISING
         return False
+
+    def start(self) -> None:
+        """Tracking starts with this frame (a fit from any pose explained the silhouette)."""
+        if self.has_person:
+            raise RuntimeError("start() is for frames without a tracked person")
+        self.status, self._confirmed, self._absent = TRACKED, 0, 0
 
     def tracking(self, present: bool, lost: bool) -> str:
         """Feeds one tracked frame: is the person still there, is any part lost.

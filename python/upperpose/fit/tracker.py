@@ -1,15 +1,17 @@
 """`Tracker`: video frames in, 3D upper-body poses out, one `update(frame)` at a time.
 
 The loop of the thesis' flowchart (Fig. 3.6-1): while nobody is tracked, look for a frontal face
-and the A-pose (start-up, §3.3); then per frame predict the pose (constant velocity), extract
-the features around the prediction, estimate the root, search the moving parts (motion flags,
-§3.4.3) inside trajectory windows, and check for lost hands (§3.4.9), which are searched over
-their anatomical ranges until found. See docs/tracker.md.
+and the A-pose (start-up, §3.3), or fit any pose around the face (`fit/acquire.py`); then per
+frame predict the pose (constant velocity), extract the features around the prediction,
+estimate the root, search the moving parts (motion flags, §3.4.3) inside trajectory windows,
+and check for lost hands (§3.4.9), which are searched over their anatomical ranges until
+found. See docs/tracker.md.
 """
 
 from __future__ import annotations
 
 import dataclasses
+import logging
 import math
 import time
 from collections.abc import Callable
@@ -25,6 +27,7 @@ from upperpose.exceptions import InputError
 from upperpose.features import Background, FeatureConfig, FeatureExtractor, FrameFeatures, skin_mask
 from upperpose.features.checks import check_frame
 from upperpose.features.online import OnlineBackground, body_region
+from upperpose.fit.acquire import agreement, global_fit, restart_seed
 from upperpose.fit.confidence import joint_confidence
 from upperpose.fit.reach import ArmReach, hand_target, unexplained
 from upperpose.fit.recovery import (
@@ -38,14 +41,18 @@ from upperpose.fit.recovery import (
     unexplained_by_side,
 )
 from upperpose.fit.root import RootEstimator
-from upperpose.fit.search import Limits, Mode, Optimizer, SearchConfig, fit_frame
+from upperpose.fit.search import Limits, Mode, Optimizer, SearchConfig, fit_frame, reseeded
 from upperpose.fit.startup import (
     FaceBox,
     FaceDetector,
+    StartupFit,
+    any_pose_points,
     check_apose,
     choose_face,
     face_centre,
     fit_bodies,
+    hand_candidates,
+    hand_point,
     head_raised,
     measure_body,
     pixels_per_metre,
@@ -65,6 +72,7 @@ from upperpose.model import (
 )
 from upperpose.result import NO_PERSON, TrackResult
 
+log = logging.getLogger(__name__)
 FloatArray = npt.NDArray[np.float64]
 PARTS = ("torso", "right_arm", "left_arm")
 # Without a plate, the body around a detected face is not learnt for this many frames after the
@@ -127,12 +135,23 @@ class TrackerConfig:
         skip_static: search only the parts whose motion flag is set (§3.4.3); False searches
             every part every frame.
         confirm_frames: frames in a row the start-up check must pass.
-        face_only_frames: after this many frames in a row with a stable face but no three
-            clean skin blobs (a skin-coloured shirt swallows the hands), start anyway from the
-            A-pose with average arms.
-        face_only_frames_learnt: the same while the background is learnt (no clean plate):
-            until the first fit the room behind the person is a guess (inpainted), and
-            skin-coloured room there joins the hands' blobs, so the blob check rarely passes.
+        face_only_frames: after this many frames in a row with a stable face but no start
+            (neither the A-pose check nor a fit that explains the silhouette), start anyway
+            with the best fit from any pose.
+        face_only_frames_learnt: `face_only_frames` while the background is learnt (no clean
+            plate): until the first fit the room behind the person is a guess (inpainted), and
+            skin-coloured room there joins the hands' blobs, so the checks rarely pass.
+        any_pose_frames: from this many frames in a row with a stable face on, a frame that
+            fails the A-pose check is fitted from any pose (`upperpose.fit.acquire`); 0 turns
+            this off (the A-pose check, or `face_only_frames`, then starts tracking).
+        acquire_restarts: full-range searches of the arms per any-pose fit.
+        acquire_on_silhouette, acquire_explained, acquire_hand_share: a start-up fit explains
+            the frame when at least `acquire_on_silhouette` of its projection lies on the
+            silhouette, `acquire_explained` of the silhouette (above the projection's lowest
+            row) lies near the projection, and neither hand lies farther than
+            `acquire_hand_share` shoulder widths from its skin point. An any-pose fit starts
+            tracking only then; an A-pose fit that does not is replaced by an any-pose fit
+            that does.
         leave_frames: frames in a row without the person before going back to "no_person".
         presence_share: the person is present while at least this share of the model's last
             projection is covered by the silhouette, or the head's skin blob lies within a
@@ -192,6 +211,11 @@ class TrackerConfig:
     confirm_frames: int = 3
     face_only_frames: int = 15
     face_only_frames_learnt: int = 3
+    any_pose_frames: int = 2
+    acquire_restarts: int = 4
+    acquire_on_silhouette: float = 0.85
+    acquire_explained: float = 0.85
+    acquire_hand_share: float = 0.5
     leave_frames: int = 8
     presence_share: float = 0.3
     lost_threshold: float = 1.0
@@ -239,11 +263,13 @@ class TrackerConfig:
             "lost_frames",
             "doubt_frames",
             "reach_candidates",
+            "any_pose_frames",
         ):
             whole(name, 0, getattr(self, name))
-        for name in ("presence_share", "velocity_damping"):
+        whole("acquire_restarts", 0, self.acquire_restarts)
+        for name in ("presence_share", "velocity_damping", "acquire_on_silhouette", "acquire_explained"):
             real(name, getattr(self, name), 0.0, 1.0)
-        for name in ("root_window", "unexplained_share", "doubt_share", "velocity_window_gain"):
+        for name in ("root_window", "unexplained_share", "doubt_share", "velocity_window_gain", "acquire_hand_share"):
             real(name, getattr(self, name), 0.0)
         for name in ("lost_threshold", "recovery_window_scale", "startup_window_scale", "reach_share"):
             real(name, getattr(self, name), 0.0, open_low=True)
@@ -510,6 +536,7 @@ class Tracker:
     # -- start-up -----------------------------------------------------------------------------
 
     def _look_for_person(self, frame: npt.NDArray[np.uint8], index: int) -> TrackResult:
+        cfg = self.config
         t0 = time.perf_counter()
         features = self._features = self._extractor(frame)
         t1 = time.perf_counter()
@@ -524,7 +551,7 @@ class Tracker:
             self._extractor.forget_skin()
         else:
             self._extractor.learn_skin(frame, face)
-        passed = False
+        passed = stable = False
         points = np.full((3, 2), np.nan)
         if face is not None:
             stable = (
@@ -534,51 +561,124 @@ class Tracker:
             self._face_streak = self._face_streak + 1 if stable or self._last_face is None else 1
             self._face_widths = ([*self._face_widths, float(face[2])] if stable else [float(face[2])])[-10:]
             points = startup_points(face, features.blobs, self._extractor.config)
-            check = check_apose(points, face[2])
             # Not while the face moves half its width a frame: a person walking in is measured
             # mid-stride.
-            passed = bool(stable) and (check.passed or self._face_streak >= self.face_only_frames)
-            if not check.passed:
-                points[1:] = np.nan  # face-only start-up: average arms
+            passed = stable and check_apose(points, face[2]).passed
         else:
             self._face_streak = 0
         self._last_face = face
         t2 = time.perf_counter()
         timings = {"features": t1 - t0, "startup": t2 - t1}
-        if not self.state.startup(face is not None, passed) or face is None:
+        if self.state.startup(face is not None, passed) and face is not None:
+            pose = Pose.a_pose().angles
+            chosen = self._measure(features, face, points, pose, index)
+            wide = any_pose_points(features, face, self._extractor.config)
+            if cfg.any_pose_frames > 0 and not self._explains(wide, face, chosen, index, "A-pose"):
+                # The check passes on other poses too (a hand raised beside the head is still
+                # "below" it): a fit from any pose that explains the frame, and costs less in the
+                # same image regions, is taken instead.
+                other = self._acquire(wide, face, index)
+                if self._explains(wide, face, other, index, "any-pose") and self._rescored(
+                    wide, other, index
+                ) < self._rescored(wide, chosen, index):
+                    features, chosen, pose = wide, other, np.asarray(other.fit.pose, dtype=np.float64)
+            fit = self._begin(features, face, chosen, pose)
+        elif face is not None and stable and not passed and 0 < cfg.any_pose_frames <= self._face_streak:
+            # Not in the A-pose: fit any pose; start when the fit explains the silhouette, or
+            # anyway once the face has been stable for `face_only_frames`.
+            features = any_pose_points(features, face, self._extractor.config)
+            chosen = self._acquire(features, face, index)
+            if not (
+                self._explains(features, face, chosen, index, "any-pose") or self._face_streak >= self.face_only_frames
+            ):
+                timings.update(search=time.perf_counter() - t2)
+                return TrackResult(index, self.state.status, timings=timings)
+            self.state.start()
+            fit = self._begin(features, face, chosen, np.asarray(chosen.fit.pose, dtype=np.float64))
+        elif face is not None and stable and not passed and self._face_streak >= self.face_only_frames:
+            # Any-pose fits off: the face-only start-up, from the A-pose with average arms.
+            self.state.start()
+            chosen = self._measure(features, face, np.full((3, 2), np.nan), Pose.a_pose().angles, index)
+            fit = self._begin(features, face, chosen, Pose.a_pose().angles)
+        else:
             return TrackResult(index, self.state.status, timings=timings)
-        fit = self._start(features, face, points, index)
         t3 = time.perf_counter()
         timings.update(search=t3 - t2)
         result = self._accept(fit, features, index, PARTS, timings)
         timings["other"] = time.perf_counter() - t3
         return result
 
-    def _start(self, features: FrameFeatures, face: FaceBox, points: FloatArray, index: int) -> FitLike:
-        """Measures the person, sets up the per-person state and fits the start-up frame."""
+    def _explains(self, features: FrameFeatures, face: FaceBox, chosen: StartupFit, index: int, what: str) -> bool:
+        """Whether a start-up fit explains the frame: the silhouette, and a skin blob at each hand.
+
+        The silhouette hardly tells a straight raised arm from a bent one; the hands do: each
+        fitted hand must lie near the `hand_point` (far end) of some blob that may be a hand
+        (`hand_candidates`). Not only the skin points' blobs: the largest blob on a side, which
+        they take, is sometimes a bare forearm apart from its hand (v03). Without any such
+        blob there is no evidence either way.
+        """
         cfg = self.config
-        face_width = float(np.median(self._face_widths)) if self._face_widths else None
+        pose, root = np.asarray(chosen.fit.pose, dtype=np.float64), np.asarray(chosen.fit.root, dtype=np.float64)
+        share = agreement(features.sil, self._render_labels(pose, root, chosen.body))
+        joints = project(self.camera, model_points(pose, root, chosen.body))
+        limit = cfg.acquire_hand_share * max(float(np.hypot(*(joints[1] - joints[2]))), 10.0)
+        candidates = hand_candidates(face, features.blobs, below=False)
+        points = [hand_point(face, features.blobs[i], self._extractor.config) for i in candidates]
+        far = [
+            arm
+            for arm in ARMS
+            if points and min(float(np.hypot(*(joints[HAND_JOINT[arm]] - p))) for p in points) > limit
+        ]
+        log.debug(
+            "frame %d: %s fit, %.2f of it on the silhouette, %.2f of the silhouette explained, hands far: %s",
+            index,
+            what,
+            share.on_silhouette,
+            share.explained,
+            far,
+        )
+        return share.passes(cfg.acquire_on_silhouette, cfg.acquire_explained) and not far
 
-        def placed(candidate: BodyModel) -> tuple[BodyModel, FloatArray]:
-            # The arm lengths are measured from the candidate's shoulders, the head put on the face.
-            return measure_body(self.camera, face, points, candidate, face_width_px=face_width)
+    def _rescored(self, features: FrameFeatures, chosen: StartupFit, index: int) -> float:
+        """A start-up fit's cost in the full-range search's regions (comparable between fits)."""
+        fit = chosen.fit
+        pose, root = np.ascontiguousarray(fit.pose, dtype=np.float64), np.ascontiguousarray(fit.root, dtype=np.float64)
+        args = dict(self._startup_fit_args(index), mode="initial", window_scale=1.0, search=())
+        return float(self._fitter(features, pose, root, chosen.body, self.camera, **args).cost)
 
-        # The person stands in the A-pose facing the camera: search around it with wide windows
-        # rather than over the whole anatomical ranges (a turned torso with an arm along it fits
-        # a frontal A-pose silhouette almost as well).
-        pose = Pose.a_pose().angles.copy()
+    def _startup_fit_args(self, index: int) -> dict[str, Any]:
         angle_scales = np.ones(13)
-        if cfg.startup_frontal:
+        if self.config.startup_frontal:
             angle_scales[0] = 0.0
-        fit_args: dict[str, Any] = dict(
+        return dict(
             mode="trajectory",
-            window_scale=cfg.startup_window_scale,
+            window_scale=self.config.startup_window_scale,
             frame_interval=1.0 / self.fps,
             search=PARTS,
             frame_index=index,
             config=self._search_config,
             angle_window_scales=angle_scales,
         )
+
+    def _placer(self, face: FaceBox, points: FloatArray) -> Callable[[BodyModel], tuple[BodyModel, FloatArray]]:
+        face_width = float(np.median(self._face_widths)) if self._face_widths else None
+
+        def placed(candidate: BodyModel) -> tuple[BodyModel, FloatArray]:
+            # The arm lengths are measured from the candidate's shoulders, the head put on the face.
+            return measure_body(self.camera, face, points, candidate, face_width_px=face_width)
+
+        return placed
+
+    def _measure(
+        self, features: FrameFeatures, face: FaceBox, points: FloatArray, pose: FloatArray, index: int
+    ) -> StartupFit:
+        """Chooses the body's width, then the head's height, by fitting the frame around `pose`."""
+        cfg = self.config
+        placed = self._placer(face, points)
+        # Searched around `pose` with wide windows rather than over the whole anatomical ranges:
+        # in the A-pose, a turned torso with an arm along it fits a frontal silhouette almost as
+        # well.
+        fit_args = self._startup_fit_args(index)
         widths = [widened(self._base_body, k) for k in cfg.startup_width_scales or (1.0,)]
         chosen = fit_bodies(self._fitter, features, pose, widths, self.camera, placed, **fit_args)
         # Then the head's height above the shoulders, at the chosen width: the face box's depth
@@ -586,7 +686,31 @@ class Tracker:
         # their silhouette in y. Judged by the torso's stage alone: the arms' costs, with their
         # lengths re-measured from each candidate's shoulders, drown the shoulders' difference.
         heights = [head_raised(chosen.candidate, k) for k in cfg.startup_head_scales]
-        chosen = fit_bodies(self._fitter, features, pose, heights, self.camera, placed, chosen, torso_cost, **fit_args)
+        return fit_bodies(self._fitter, features, pose, heights, self.camera, placed, chosen, torso_cost, **fit_args)
+
+    def _acquire(self, features: FrameFeatures, face: FaceBox, index: int) -> StartupFit:
+        """The person's pose from any starting pose, then their width and head height around it.
+
+        `features` should hold `any_pose_points` (the head on the face, hands at any height).
+        """
+        cfg = self.config
+        points = np.full((3, 2), np.nan)  # the hands' distances measure arm lengths only in the A-pose
+        body, root = self._placer(face, points)(self._base_body)
+        trajectory = self._startup_fit_args(index)
+
+        def one(pose: FloatArray, at: FloatArray, mode: str, parts: tuple[str, ...], restart: int) -> FitLike:
+            args = dict(trajectory, search=parts)
+            if mode != "trajectory":
+                args.update(mode=mode, window_scale=1.0)
+            if restart:
+                args["config"] = reseeded(self._search_config, restart_seed(self._search_config.seed, restart))
+            return self._fitter(features, pose, np.ascontiguousarray(at, dtype=np.float64), body, self.camera, **args)
+
+        best = global_fit(one, [Pose.a_pose().angles], root, cfg.acquire_restarts)
+        return self._measure(features, face, points, np.asarray(best.pose, dtype=np.float64), index)
+
+    def _begin(self, features: FrameFeatures, face: FaceBox, chosen: StartupFit, pose: FloatArray) -> FitLike:
+        """Sets up the per-person state from the start-up fit; `pose` is last frame's pose."""
         body, root, fit = chosen.body, chosen.root, chosen.fit
         centre = face_centre(face)
         head_blob_width, bias = None, np.zeros(2)
@@ -598,7 +722,7 @@ class Tracker:
                 bias = np.asarray(head.xy) - centre
         self._body = body
         self._root = RootEstimator(self.camera, body, root, head_blob_width, bias, head_size_px=float(face[2]))
-        self._pose = Pose.a_pose().angles.copy()
+        self._pose = np.array(pose, dtype=np.float64)
         self._previous_pose = self._pose.copy()
         self._lost.reset()
         self._doubt.reset()
@@ -928,16 +1052,19 @@ class Tracker:
         scale = pixels_per_metre(self.camera, float(root[2]))
         return float(0.5 * width * length * scale * scale)
 
-    def _render_labels(self, pose: FloatArray, root: FloatArray) -> npt.NDArray[np.uint8]:
+    def _render_labels(
+        self, pose: FloatArray, root: FloatArray, body: BodyModel | None = None
+    ) -> npt.NDArray[np.uint8]:
         """The model's part labels at full size, rasterised at half resolution (4x cheaper).
 
         They serve the motion flags (counted inside a 9x9 dilation) and the torso region of the
         arm silhouette, where a pixel of rounding does not matter.
         """
         height, width = self.size
+        body = body or self.body
         if self._half_camera is None:
-            return render_masks(pose, root, self.camera, width, height, self.body)["labels"]
-        small = render_masks(pose, root, self._half_camera, (width + 1) // 2, (height + 1) // 2, self.body)["labels"]
+            return render_masks(pose, root, self.camera, width, height, body)["labels"]
+        small = render_masks(pose, root, self._half_camera, (width + 1) // 2, (height + 1) // 2, body)["labels"]
         return np.asarray(cv2.resize(small, (width, height), interpolation=cv2.INTER_NEAREST), dtype=np.uint8)
 
     def _reset_person(self) -> None:
