@@ -19,6 +19,8 @@ import cv2
 import numpy as np
 import numpy.typing as npt
 
+from upperpose.fit.recovery import ARMS
+
 # Restart r searches with the seed `seed + r * RESTART_STRIDE` (mod 2**64; the core keys its
 # random streams by seed, frame and stage): restarts differ from each other, are unlikely to
 # repeat another seed's streams, and the same seed still gives the same fit whatever the
@@ -101,7 +103,6 @@ def global_fit(
     return candidates[min(scored)[1]]
 
 
-PARTS = ("torso", "right_arm", "left_arm")
-ARMS = ("right_arm", "left_arm")
+PARTS = ("torso", *ARMS)
 
 __all__ = ["RESTART_STRIDE", "Agreement", "agreement", "global_fit", "restart_seed"]
