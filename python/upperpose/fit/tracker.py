@@ -782,8 +782,7 @@ class Tracker:
             # the silhouette there), and the wide search's regions are larger (everything the
             # arm can reach). Score the trajectory fit in the same regions before comparing.
             if self.config.fair_recovery:
-                same = self._fit(features, np.asarray(fit.pose), np.asarray(fit.root), "initial", (), index, interval)
-                narrow_cost = float(same.cost)
+                narrow_cost = self._fair_cost(features, np.asarray(fit.pose), np.asarray(fit.root), index, interval)
             else:
                 narrow_cost = float(fit.cost)
             # A doubted arm's new pose must also bring its hand nearer its skin point: a lower
@@ -820,29 +819,16 @@ class Tracker:
             target = hand_target(features, arm, hands)
             if target is None or not unexplained(hands, target, cfg.reach_share * shoulder_px):
                 continue
-            if self._reach is None:
-                self._reach = ArmReach(self.body)
-            seeds = self._reach.candidates(
-                arm,
-                fit.pose,
-                fit.root,
-                self.camera,
-                target,
-                cfg.reach_candidates,
-                tolerance_px=0.5 * shoulder_px,
-                elbow_spread_px=0.15 * shoulder_px,
-            )
-            if not seeds:
-                continue
             root = np.asarray(fit.root)
-            scored = [self._fit(features, seed, root, "initial", (), index, interval) for seed in seeds]
-            best = seeds[int(np.argmin([float(s.cost) for s in scored]))]
+            best = self._reach_seed(features, np.asarray(fit.pose), root, arm, target, shoulder_px, index, interval)
+            if best is None:
+                continue
             found = self._fit(
                 features, best, root, "trajectory", (arm,), index, interval, self.config.recovery_window_scale
             )
             if fair is None:
-                fair = float(self._fit(features, np.asarray(fit.pose), root, "initial", (), index, interval).cost)
-            found_fair = float(self._fit(features, np.asarray(found.pose), root, "initial", (), index, interval).cost)
+                fair = self._fair_cost(features, np.asarray(fit.pose), root, index, interval)
+            found_fair = self._fair_cost(features, np.asarray(found.pose), root, index, interval)
             found_hand = project(self.camera, model_points(np.asarray(found.pose), root, self.body))[HAND_JOINT[arm]]
             if found_fair < fair and np.hypot(*(found_hand - target)) < np.hypot(*(hands[HAND_JOINT[arm]] - target)):
                 fit, fair = found, found_fair
@@ -879,33 +865,59 @@ class Tracker:
         if not points[HAND_JOINT["right_arm"]][0] > points[HAND_JOINT["left_arm"]][0]:
             return fit, features, ()
         swapped = dataclasses.replace(features, right_hand=left, left_hand=right)
-        if self._reach is None:
-            self._reach = ArmReach(self.body)
         shoulder_px = max(float(np.hypot(*(points[1] - points[2]))), 10.0)
         candidate = pose.copy()
         for arm, point in (("right_arm", left), ("left_arm", right)):
-            seeds = self._reach.candidates(
-                arm,
-                candidate,
-                root,
-                self.camera,
-                point.xy,
-                self.config.reach_candidates,
-                tolerance_px=0.5 * shoulder_px,
-                elbow_spread_px=0.15 * shoulder_px,
-            )
-            if not seeds:
+            seed = self._reach_seed(swapped, candidate, root, arm, point.xy, shoulder_px, index, interval)
+            if seed is None:
                 return fit, features, ()
-            scored = [self._fit(swapped, seed, root, "initial", (), index, interval) for seed in seeds]
-            candidate = seeds[int(np.argmin([float(s.cost) for s in scored]))]
+            candidate = seed
         found = self._fit(
             swapped, candidate, root, "trajectory", ARMS, index, interval, self.config.recovery_window_scale
         )
-        mine = float(self._fit(features, pose, root, "initial", (), index, interval).cost)
-        theirs = float(self._fit(swapped, np.asarray(found.pose), root, "initial", (), index, interval).cost)
+        mine = self._fair_cost(features, pose, root, index, interval)
+        theirs = self._fair_cost(swapped, np.asarray(found.pose), root, index, interval)
         if theirs < mine:
             return found, swapped, ARMS
         return fit, features, ()
+
+    def _reach_seed(
+        self,
+        features: FrameFeatures,
+        pose: FloatArray,
+        root: FloatArray,
+        arm: str,
+        target: npt.ArrayLike,
+        shoulder_px: float,
+        index: int,
+        interval: float,
+    ) -> FloatArray | None:
+        """`pose` with `arm` moved to the cheapest tabulated pose that puts its hand near `target`.
+
+        None when no tabulated pose reaches the target. The table is made on first use (per body).
+        """
+        if self._reach is None:
+            self._reach = ArmReach(self.body)
+        seeds = self._reach.candidates(
+            arm,
+            pose,
+            root,
+            self.camera,
+            target,
+            self.config.reach_candidates,
+            tolerance_px=0.5 * shoulder_px,
+            elbow_spread_px=0.15 * shoulder_px,
+        )
+        if not seeds:
+            return None
+        costs = [float(self._fit(features, seed, root, "initial", (), index, interval).cost) for seed in seeds]
+        return seeds[int(np.argmin(costs))]
+
+    def _fair_cost(
+        self, features: FrameFeatures, pose: FloatArray, root: FloatArray, index: int, interval: float
+    ) -> float:
+        """A pose's cost unsearched, in the full-range search's regions: comparable between poses."""
+        return float(self._fit(features, pose, root, "initial", (), index, interval).cost)
 
     def _arm_scales(self, interval: float) -> FloatArray | None:
         """Per-angle window factors: each arm's windows grow with its last change.
