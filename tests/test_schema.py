@@ -8,7 +8,7 @@ from typing import Any
 import pytest
 
 from upperpose.cli import main
-from upperpose.io.posefile import make_poses, schema
+from upperpose.io.posefile import make_poses, schema, validate_poses
 
 jsonschema = pytest.importorskip("jsonschema")
 
@@ -24,6 +24,8 @@ def good() -> dict[str, Any]:
             "angles": [0.0] * 13,
             "cost": 1.5,
             "root": [0.0, 0.1, 2.0],
+            "confidence": [0.97, 0.34, 0.34, 0.45, 0.23, 0.87, 0.07],
+            "visibility": ["observed"] * 4 + ["unobserved", "observed", "unobserved"],
         },
     ]
     return make_poses(
@@ -61,3 +63,24 @@ def test_schema_rejects_what_the_reader_rejects(spoil) -> None:  # type: ignore[
     spoil(doc)
     with pytest.raises(jsonschema.ValidationError):
         jsonschema.validate(doc, schema())
+
+
+@pytest.mark.parametrize(
+    "spoil",
+    [
+        lambda d: d["frames"][1].update(visibility=["observed"] * 6 + ["hidden"]),
+        lambda d: d["frames"][1].update(visibility=["observed"] * 6),
+        lambda d: d["frames"][1].update(confidence=[0.5] * 6 + [1.5]),
+        lambda d: d["frames"][1].update(confidence=[0.5] * 6 + ["high"]),
+        lambda d: d["frames"][0].update(visibility=["observed"] * 7),  # a no_person frame with visibility
+        lambda d: d["frames"][0].update(confidence=[0.5] * 7),
+    ],
+)
+def test_per_joint_fields_are_checked_by_schema_and_reader(spoil) -> None:  # type: ignore[no-untyped-def]
+    validate_poses(good())
+    doc = good()
+    spoil(doc)
+    with pytest.raises(jsonschema.ValidationError):
+        jsonschema.validate(doc, schema())
+    with pytest.raises(ValueError, match="confidence|visibility"):
+        validate_poses(doc)

@@ -14,6 +14,9 @@ import numpy.typing as npt
 FloatArray = npt.NDArray[np.float64]
 NO_PERSON, INITIALISING, TRACKED, LOST = "no_person", "initialising", "tracked", "lost"
 STATUSES = (NO_PERSON, INITIALISING, TRACKED, LOST)
+# A joint the image shows, or one outside the image or on a lost arm (`upperpose.fit.visibility`).
+OBSERVED, UNOBSERVED = "observed", "unobserved"
+VISIBILITIES = (OBSERVED, UNOBSERVED)
 
 
 @dataclass(frozen=True)
@@ -32,6 +35,7 @@ class TrackResult:
         lost_parts: the arms that are lost.
         timings: wall seconds per stage: "features", "startup", "search", "other".
         confidence: `(7,)` per joint in [0, 1] (`upperpose.fit.confidence`); or None.
+        visibility: per joint "observed" or "unobserved" (`upperpose.fit.visibility`); or None.
     """
 
     frame: int
@@ -45,6 +49,7 @@ class TrackResult:
     lost_parts: tuple[str, ...] = ()
     timings: dict[str, float] = field(default_factory=dict)
     confidence: FloatArray | None = None
+    visibility: tuple[str, ...] | None = None
 
     def to_record(self) -> dict[str, Any]:
         """The frame as a SPEC 9 "frames" entry (plus "root")."""
@@ -64,4 +69,5 @@ class TrackResult:
             "confidence": [round(float(v), 3) for v in self.confidence]
             if has_pose and self.confidence is not None
             else None,
+            "visibility": list(self.visibility) if has_pose and self.visibility is not None else None,
         }

@@ -28,7 +28,7 @@ from upperpose.features import Background, FeatureConfig, FeatureExtractor, Fram
 from upperpose.features.checks import check_frame
 from upperpose.features.online import OnlineBackground, body_region
 from upperpose.fit.acquire import agreement, global_fit, restart_seed
-from upperpose.fit.confidence import joint_confidence
+from upperpose.fit.confidence import JointConfidence
 from upperpose.fit.reach import ArmReach, hand_target, unexplained
 from upperpose.fit.recovery import (
     ARMS,
@@ -60,6 +60,7 @@ from upperpose.fit.startup import (
     widened,
 )
 from upperpose.fit.state import StateMachine
+from upperpose.fit.visibility import visibility
 from upperpose.model import (
     BodyModel,
     Camera,
@@ -403,6 +404,7 @@ class Tracker:
         self._lost = LostDetector(cfg.lost_threshold, cfg.lost_frames)
         self._doubt = DoubtDetector(cfg.doubt_share, cfg.doubt_frames)
         self._follow = HandFollower()
+        self._confidence = JointConfidence()
         self._frame = 0
         self._last_time: float | None = None
         self._reset_person()
@@ -729,6 +731,7 @@ class Tracker:
         self._corrected: tuple[str, ...] = ()
         self._follow.reset()
         self._reach = None
+        self._confidence.reset()
         return cast(FitLike, fit)
 
     # -- tracking -----------------------------------------------------------------------------
@@ -1041,7 +1044,11 @@ class Tracker:
         self._previous_pose, self._pose = previous, pose
         self._last_root, self._labels = root, labels
         self._last_joints, self._last_cost = joints_2d, float(fit.cost)
-        confidence = joint_confidence(anatomical_2d, joints_2d, features, distances, lost_parts, features.sil.shape[:2])
+        size = (int(features.sil.shape[0]), int(features.sil.shape[1]))
+        excess_by_arm = {arm: float(excess[k]) for k, arm in enumerate(ARMS)}
+        confidence = self._confidence.update(
+            anatomical_2d, joints_2d, features, distances, lost_parts, self._corrected, excess_by_arm, size
+        )
         return TrackResult(
             index,
             status_now,
@@ -1054,6 +1061,7 @@ class Tracker:
             lost_parts,
             timings,
             confidence,
+            tuple(visibility(anatomical_2d, lost_parts, size)),
         )
 
     def _arm_area_px(self, root: FloatArray) -> float:
@@ -1102,6 +1110,7 @@ class Tracker:
         self._corrected = ()
         self._follow.reset()
         self._reach = None
+        self._confidence.reset()
 
 
 __all__ = ["PARTS", "StaticFit", "TrackResult", "Tracker", "TrackerConfig"]

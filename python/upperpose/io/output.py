@@ -25,11 +25,12 @@ from upperpose.result import LOST, TRACKED, TrackResult
 
 
 def csv_header() -> list[str]:
-    """Column names: frame, status, cost, 7 x (x, y) pixels, 7 x (X, Y, Z) metres, 13 angles, 7 confidences."""
+    """Column names: frame, status, cost, 7 x (x, y) px, 7 x (X, Y, Z) m, 13 angles, 7 confidences, 7 visibilities."""
     cols = ["frame", "status", "cost"]
     cols += [f"{j}_{a}" for j in JOINT_NAMES for a in ("x", "y")]
     cols += [f"{j}_{a}" for j in JOINT_NAMES for a in ("X", "Y", "Z")]
-    return cols + list(ANGLE_NAMES) + [f"{j}_confidence" for j in JOINT_NAMES]
+    cols += list(ANGLE_NAMES) + [f"{j}_confidence" for j in JOINT_NAMES]
+    return cols + [f"{j}_visibility" for j in JOINT_NAMES]
 
 
 class PoseRecorder:
@@ -138,6 +139,8 @@ def csv_row(r: dict[str, Any]) -> list[Any]:
     row += [f"{v:.6g}" for v in r["angles"]] if has_pose and r["angles"] is not None else [""] * len(ANGLE_NAMES)
     confidence = r.get("confidence")
     row += [f"{v:.3g}" for v in confidence] if has_pose and confidence is not None else [""] * len(JOINT_NAMES)
+    visibility = r.get("visibility")
+    row += list(visibility) if has_pose and visibility is not None else [""] * len(JOINT_NAMES)
     return row
 
 

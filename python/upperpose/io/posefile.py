@@ -19,6 +19,7 @@ from typing import Any
 from upperpose.exceptions import InputError
 from upperpose.io.files import write_atomic
 from upperpose.model import ANGLE_NAMES, JOINT_NAMES
+from upperpose.result import VISIBILITIES
 
 FORMAT = "upperpose.poses/1"
 STATUSES = ("no_person", "initialising", "tracked", "lost")
@@ -76,7 +77,27 @@ def validate_frame(frame: object, index: int) -> dict[str, Any]:
         out["angles"] = [_number(v, f"{where}.angles") for v in angles]
     cost = frame.get("cost")
     out["cost"] = None if cost is None else _number(cost, f"{where}.cost")
+    _per_joint(frame, where, status)
     return out
+
+
+def _per_joint(frame: dict[str, Any], where: str, status: str) -> None:
+    """Checks the optional per-joint "confidence" (numbers in [0, 1]) and "visibility" (VISIBILITIES)."""
+    for key, ok, wanted in (
+        ("confidence", lambda v: _is_number(v) and 0.0 <= v <= 1.0, "numbers in [0, 1]"),
+        ("visibility", lambda v: v in VISIBILITIES, f"one of {', '.join(map(repr, VISIBILITIES))}"),
+    ):
+        value = frame.get(key)
+        if value is None:
+            continue
+        if status in _EMPTY_STATUSES:
+            raise InputError(f"{where}: a {status!r} frame carries no {key} (must be null)")
+        if not isinstance(value, list) or len(value) != len(JOINT_NAMES) or not all(ok(v) for v in value):
+            raise InputError(f"{where}.{key} must be {len(JOINT_NAMES)} entries, each {wanted}, or null; got {value!r}")
+
+
+def _is_number(value: object) -> bool:
+    return not isinstance(value, bool) and isinstance(value, (int, float)) and math.isfinite(value)
 
 
 def validate_poses(data: object) -> dict[str, Any]:
