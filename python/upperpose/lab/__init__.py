@@ -2,6 +2,6 @@
 
 Synthetic clips with exact truth (`synth`), scoring
 (`evaluate`), the thesis' comparison of optimisers (`compare`), dev-set runners (`devset`,
-`features_devset`), refits and benches. `lab` imports the product; the product never imports
-`lab`.
+`features_devset`), the confidence tables' re-measurement (`confidence`), refits and benches.
+`lab` imports the product; the product never imports `lab`.
 """
