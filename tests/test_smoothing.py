@@ -40,6 +40,16 @@ def test_weights_sum_to_one_and_keep_quadratics(half: int) -> None:
         assert w @ (3.0 + 2.0 * k - 0.7 * k * k) == pytest.approx(3.0)
 
 
+@pytest.mark.parametrize("half", range(2, 9))
+def test_weights_are_a_tricube_weighted_quadratic_fit(half: int) -> None:
+    # Reference: numpy's weighted polynomial fit (its weights multiply the residuals, hence the root).
+    k = np.arange(-half, half + 1, dtype=float)
+    kernel = (1.0 - (np.abs(k) / (half + 1)) ** 3) ** 3
+    values = np.random.default_rng(half).normal(size=k.size)
+    fitted = np.polyval(np.polyfit(k, values, 2, w=np.sqrt(kernel)), 0.0)
+    assert centre_weights(half) @ values == pytest.approx(fitted, abs=1e-12)
+
+
 def test_quadratic_motion_passes_unchanged() -> None:
     base = Pose.a_pose().angles
     t = np.arange(40, dtype=float)

@@ -104,11 +104,13 @@ def add_tracking_arguments(p: argparse.ArgumentParser) -> None:
 
 def add_smoothing_argument(p: argparse.ArgumentParser) -> None:
     """--no-smooth, shared by track and demo."""
+    from upperpose.fit.smoothing import DEFAULT_LAG
+
     p.add_argument(
         "--no-smooth",
         action="store_true",
         help="write the poses as fitted (default: smoothed in angle space without lag, each frame's "
-        "pose known 3 frames later; docs/guide.md)",
+        f"pose known {DEFAULT_LAG} frames later; docs/guide.md)",
     )
 
 

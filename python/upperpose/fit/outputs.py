@@ -76,7 +76,8 @@ def smoothing_record(smooth: bool) -> tuple[int, dict[str, object] | None]:
     """The smoother's lag and the pose file's description of it (None: not smoothed)."""
     if not smooth:
         return 0, None
-    return DEFAULT_LAG, {"method": "savitzky-golay, quadratic, centred, in angle space", "lag_frames": DEFAULT_LAG}
+    method = "local quadratic, tricube weights, centred, in angle space"
+    return DEFAULT_LAG, {"method": method, "lag_frames": DEFAULT_LAG}
 
 
 def provenance(run_: VideoTracking) -> dict[str, object]:

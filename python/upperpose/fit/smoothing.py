@@ -1,12 +1,15 @@
 """Smoothing the tracked poses in angle space, without lag: a centred fixed-lag smoother.
 
-Each frame's 13 angles and root are replaced by the value at that frame of a least-squares
-quadratic through the frames up to `lag` before and after it (Savitzky-Golay), within the run
-of consecutive frames that have a pose; the joints are then recomputed from the smoothed angles
-(forward kinematics and projection), so bone lengths stay the body's. A centred window has no
-lag; the price is that a frame's smoothed pose is known `lag` frames later, so a live run's
-outputs trail the camera by `lag` frames. Near the ends of a run the window shrinks
-symmetrically (at the very first and last frame of a run the pose is kept as it is).
+Each frame's 13 angles and root are replaced by the value at that frame of a weighted
+least-squares quadratic through the frames up to `lag` before and after it, within the run of
+consecutive frames that have a pose; the weights fall off with the distance in frames as the
+tricube kernel `(1 - (|k| / (lag + 1))^3)^3` (as in LOESS), which damps the frame-to-frame
+jitter more than equal weights do at the same window and still passes quadratic motion
+unchanged. The joints are then recomputed from the smoothed angles (forward kinematics and
+projection), so bone lengths stay the body's. A centred window has no lag; the price is that a
+frame's smoothed pose is known `lag` frames later, so a live run's outputs trail the camera by
+`lag` frames. Near the ends of a run the window shrinks symmetrically (at the very first and
+last frame of a run the pose is kept as it is).
 """
 
 from __future__ import annotations
@@ -25,12 +28,12 @@ from upperpose.result import LOST, TRACKED, TrackResult
 
 FloatArray = npt.NDArray[np.float64]
 T = TypeVar("T")
-DEFAULT_LAG = 3
+DEFAULT_LAG = 5
 MAX_LAG = 30
 
 
 def centre_weights(half: int) -> FloatArray:
-    """Weights of the centre value of a least-squares quadratic over 2 * half + 1 points.
+    """Weights of the centre value of a tricube-weighted least-squares quadratic over 2 * half + 1 points.
 
     half 0 keeps the value; half 1 is the plain mean of three (a quadratic through three points
     would fit them exactly, so a line is fitted instead).
@@ -40,9 +43,10 @@ def centre_weights(half: int) -> FloatArray:
     if half == 1:
         return np.full(3, 1.0 / 3.0)
     k = np.arange(-half, half + 1, dtype=float)
+    kernel = (1.0 - (np.abs(k) / (half + 1)) ** 3) ** 3
     basis = np.stack([np.ones_like(k), k, k * k], axis=1)
-    # The fitted value at k = 0 is the first coefficient: row 0 of the pseudo-inverse.
-    weights: FloatArray = np.linalg.pinv(basis)[0]
+    # The fitted value at k = 0 is the first coefficient of the weighted normal equations' solution.
+    weights: FloatArray = np.linalg.solve(basis.T @ (kernel[:, None] * basis), basis.T * kernel)[0]
     return weights
 
 
