@@ -5,8 +5,11 @@ from __future__ import annotations
 import cv2
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from upperpose.features import POINT_FOUND, POINT_MERGED, Background, FeatureConfig, compute_features
+from upperpose.features.blobs import blob_from_pixels
 from upperpose.lab.feature_scene import SKIN_BGR
 
 WALL_BGR = (190, 195, 200)
@@ -62,3 +65,18 @@ def test_hand_on_the_face_stays_merged(background) -> None:
     features = compute_features(frame_with_hand(hand), background, predicted_joints=joints(hand))
     np.testing.assert_array_equal(features.point_status(), [POINT_MERGED, POINT_FOUND, POINT_MERGED])
     assert features.head.blob == features.left_hand.blob
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(st.tuples(st.integers(0, 59), st.integers(0, 39), st.integers(1, 12)), min_size=1, max_size=4))
+def test_a_blob_box_holds_every_pixel_of_every_piece(discs: list[tuple[int, int, int]]) -> None:
+    # A split blob's head keeps its hair, which may lie apart from the face: cutting a mask of
+    # the box (as the split does) must not drop or overrun any pixel.
+    pixels = np.zeros((40, 60), np.uint8)
+    for x, y, r in discs:
+        cv2.circle(pixels, (x, y), r, 255, -1)
+    blob = blob_from_pixels(pixels, (100, 50), 0.5)
+    x, y, w, h = blob.bbox
+    assert blob.xs.min() >= x and blob.xs.max() < x + w and blob.ys.min() >= y and blob.ys.max() < y + h
+    ys, xs = np.nonzero(pixels)
+    assert (x, y, w, h) == (xs.min() + 100, ys.min() + 50, xs.max() - xs.min() + 1, ys.max() - ys.min() + 1)

@@ -133,7 +133,12 @@ def blob_from_pixels(
     xs = (xs + x).astype(np.int32)
     ys = (ys + y).astype(np.int32)
     centroid = (float(xs.mean()), float(ys.mean()))
-    bbox = cast(tuple[int, int, int, int], cv2.boundingRect(contour))
+    # The box holds every pixel: a blob's pixels may lie in several pieces (a split blob's head
+    # keeps its hair), beyond the largest piece's contour.
+    cx, cy, cw, ch = cv2.boundingRect(contour)
+    left, top = min(cx, int(xs.min())), min(cy, int(ys.min()))
+    right, bottom = max(cx + cw, int(xs.max()) + 1), max(cy + ch, int(ys.max()) + 1)
+    bbox = (left, top, right - left, bottom - top)
     return SkinBlob(
         len(xs), centroid, bbox, gradient, cast(npt.NDArray[np.int32], xs), cast(npt.NDArray[np.int32], ys), contour
     )
