@@ -172,7 +172,8 @@ class TrackerConfig:
         startup_head_scales: then the head's height above the shoulders, as factors of the
             averages besides 1 (the width's fit), at the chosen width; the fit whose torso
             stage costs least is kept (the face box's depth is about 10 % off, which leaves
-            the shoulders too high or low). Empty: the averages.
+            the shoulders too high or low); only +-5 %: further out, the cost chose wrongly
+            on bodies other than the model's own. Empty: the averages.
         startup_frontal: fit the start-up frame with the torso's turn held at zero. Off by
             default: the turn's own window (+-0.05 rad x 3) is already narrow, and holding it
             costs more frames than it saves (docs/tracker.md).
@@ -226,7 +227,7 @@ class TrackerConfig:
     recovery_window_scale: float = 2.0
     startup_window_scale: float = 3.0
     startup_width_scales: tuple[float, ...] = (0.75, 0.8, 0.85, 0.9, 0.95, 1.0, 1.05, 1.1, 1.15, 1.2)
-    startup_head_scales: tuple[float, ...] = (0.85, 0.9, 0.95, 1.05, 1.1, 1.15)
+    startup_head_scales: tuple[float, ...] = (0.95, 1.05)
     startup_frontal: bool = False
     velocity_window_gain: float = 0.5
     fair_recovery: bool = True
