@@ -15,7 +15,7 @@ from upperpose.features import (
 )
 from upperpose.features.background import iterative_masked_median
 from upperpose.features.config import PersonTemplate
-from upperpose.features.person_cut import grabcut_seed, person_in_median
+from upperpose.features.person_cut import find_face, grabcut_seed, person_in_median
 from upperpose.lab.feature_scene import textured_background
 from upperpose.lab.synth import ClipConfig, plan_clip, render_frame
 
@@ -142,6 +142,26 @@ def test_person_cut_finds_the_person_and_nothing_without_a_face(still_person) ->
     assert (found > 0).sum() < 1.6 * np.any(persons, axis=0).sum()  # and not the room
     room = textured_background(H, W, seed=7)
     assert person_in_median(room, [room] * 3, FeatureConfig()) is None
+
+
+def test_person_cut_finds_a_person_whose_head_moves_while_the_body_stays(still_person) -> None:
+    # A head that nods and turns leaves no face in the median; the chest below the samples'
+    # faces is still there and tells where the person stands.
+    frames, persons, room = still_person
+    median = np.median(np.stack(frames), axis=0).astype(np.uint8)
+    face = find_face(frames[0], FeatureConfig())
+    assert face is not None
+    x, y, w, h = face
+    head = (slice(max(y - h // 2, 0), y + h + h // 4), slice(x - w // 2, x + w + w // 2))
+    headless = median.copy()
+    headless[head] = room[head]
+    assert find_face(headless, FeatureConfig()) is None
+    found = person_in_median(headless, frames, FeatureConfig())
+    assert found is not None
+    below = np.zeros(found.shape, bool)
+    below[y + 2 * h :, :] = True
+    body = np.all(persons, axis=0) & below
+    assert (found[body] > 0).mean() > 0.9
 
 
 def test_person_cut_is_the_same_whatever_the_callers_random_state(still_person) -> None:

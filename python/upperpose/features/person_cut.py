@@ -40,8 +40,9 @@ def face_of_median(median: Frame, samples: Sequence[Frame], config: FeatureConfi
     """The face of the person the median image shows, or None.
 
     The median's own face when the cascade finds one; else, of the faces in `bg_face_samples`
-    samples spread over the clip, the one whose box the median agrees with most (share of pixels
-    within `bg_person_match`), if at least `bg_face_agreement`.
+    samples spread over the clip, the one whose box, or the chest box below it (a person who
+    stays put while the head moves), the median agrees with most (share of pixels within
+    `bg_person_match`), if at least `bg_face_agreement`.
     """
     detect = FaceDetector(downscale=1.0)
     face = find_face(median, config, detect)
@@ -53,12 +54,31 @@ def face_of_median(median: Frame, samples: Sequence[Frame], config: FeatureConfi
         box = find_face(samples[k], config, detect)
         if box is None:
             continue
-        x, y, w, h = box
-        differs = colour_change(samples[k][y : y + h, x : x + w], median[y : y + h, x : x + w], config.bg_person_match)
-        share = 1.0 - cv2.countNonZero(differs) / max(differs.size, 1)
+        share = max(agreement(samples[k], median, region, config) for region in (box, chest_box(box, config)))
         if share >= best_share:
             best, best_share = box, share
     return best
+
+
+def chest_box(face: FaceBox, config: FeatureConfig) -> FaceBox:
+    """The body template's sure chest below a face box, `(x, y, w, h)`."""
+    x, y, w, h = face
+    half, top, bottom = config.bg_person.sure_chest
+    return (round(x + w / 2 - half * w), round(y + top * h), round(2 * half * w), round((bottom - top) * h))
+
+
+def agreement(frame: Frame, median: Frame, box: FaceBox, config: FeatureConfig) -> float:
+    """Share of the pixels of `box` (clipped to the image) where `frame` and `median` agree."""
+    x, y, w, h = box
+    x0, y0 = max(x, 0), max(y, 0)
+    x1, y1 = min(x + w, frame.shape[1]), min(y + h, frame.shape[0])
+    if x1 <= x0 or y1 <= y0:
+        return 0.0
+    crop = (slice(y0, y1), slice(x0, x1))
+    differs = colour_change(
+        np.ascontiguousarray(frame[crop]), np.ascontiguousarray(median[crop]), config.bg_person_match
+    )
+    return 1.0 - cv2.countNonZero(differs) / differs.size
 
 
 def grabcut_seed(shape: tuple[int, int], face: FaceBox, template: PersonTemplate) -> Mask:
