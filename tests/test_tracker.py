@@ -590,7 +590,7 @@ def test_crossed_arms_on_swapped_hand_points_are_untangled_when_that_costs_less(
     tracker._fitter = LabelledFitter(gt, truth_pose if truth_cheaper else crossed)
     joints = upperpose.forward_kinematics(crossed, root, tracker.body)
     fit = StaticFit(crossed, root, joints, upperpose.project(tracker.camera, joints), 1.0)
-    kept, labels, moved = tracker._untangle_hands(swapped, fit, 40, 1 / 15)
+    kept, labels, moved = tracker._corrections.untangle_hands(swapped, fit, tracker._frame_search(40, 1 / 15))
     if truth_cheaper:
         assert np.allclose(kept.pose, truth_pose) and moved == ("right_arm", "left_arm")
         assert labels.right_hand is features.right_hand  # type: ignore[attr-defined]

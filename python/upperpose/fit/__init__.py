@@ -1,8 +1,9 @@
 """Stage 3, the fit: the per-frame search and the tracker (thesis Fig. 3.6-1) around it.
 
 `search` wraps the Rust annealed particle swarm (one frame's fit); `tracker` runs start-up
-(`startup`), the root and its depth (`root`), lost hands (`recovery`) and the status (`state`)
-frame after frame; `pipeline` streams a video through it. See docs/tracker.md. Typical use::
+(`person_finder`, over `startup` and `acquire`), the root and its depth (`root`), lost hands
+(`recovery`), the arms' corrections (`arm_corrections`) and the status (`state`) frame after
+frame; `pipeline` streams a video through it. See docs/tracker.md. Typical use::
 
     tracker = Tracker(camera, background)
     for frame in frames:
