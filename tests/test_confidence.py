@@ -22,6 +22,7 @@ from upperpose.fit.confidence import (
     JointConfidence,
     group_share,
     lookup,
+    shares,
 )
 from upperpose.fit.recovery import hand_distances
 from upperpose.fit.visibility import inside_image, visibility
@@ -49,7 +50,7 @@ CALM = {"right_arm": 0.0, "left_arm": 0.0}
 def confidence(joints=JOINTS, f=None, lost=(), moved=(), excess=CALM, history=None):  # type: ignore[no-untyped-def]
     f = f if f is not None else features([(320, 100), (230, 340), (440, 340)])
     history = history or JointConfidence()
-    return history.update(joints, JOINTS, f, hand_distances(JOINTS, f), lost, moved, excess, (480, 640))
+    return shares(history.groups(joints, JOINTS, f, hand_distances(JOINTS, f), lost, moved, excess, (480, 640)))
 
 
 def test_tables_fall_with_the_gap_and_stay_in_range() -> None:
@@ -96,10 +97,11 @@ def test_an_arm_is_unsettled_after_a_recovery_a_jump_or_unexplained_silhouette()
     confidence(history=history)
     jumped = JOINTS + [0.0, JUMP_LIMIT * 120 + 1.0]  # the whole body moved down by more than the limit
     shifted = features([(320, 100 + 19), (230, 340 + 19), (440, 340 + 19)])
-    model_jump = history.update(jumped, jumped, shifted, hand_distances(jumped, shifted), (), (), CALM, (480, 640))
+    evidence = (jumped, jumped, shifted, hand_distances(jumped, shifted), (), (), CALM, (480, 640))
+    model_jump = shares(history.groups(*evidence))
     assert model_jump[5] == unsettled
     history.reset()
-    fresh = history.update(jumped, jumped, shifted, hand_distances(jumped, shifted), (), (), CALM, (480, 640))
+    fresh = shares(history.groups(*evidence))
     assert fresh[5] == settled
 
 

@@ -145,20 +145,10 @@ class JointConfidence:
             out[j] = ("outside", None)
         return out
 
-    def update(
-        self,
-        joints_2d: FloatArray,
-        model_2d: FloatArray,
-        features: FrameFeatures,
-        gaps: dict[str, float | None],
-        lost_parts: tuple[str, ...],
-        moved: tuple[str, ...],
-        excess: dict[str, float],
-        size: tuple[int, int],
-    ) -> FloatArray:
-        """Confidence of the seven reported joints (JOINT_NAMES order); arguments as `groups`."""
-        found = self.groups(joints_2d, model_2d, features, gaps, lost_parts, moved, excess, size)
-        return np.array([group_share(g, gap) for g, gap in found])
+
+def shares(found: list[tuple[str, float | None]]) -> FloatArray:
+    """Confidence of the seven reported joints from their groups and gaps (`JointConfidence.groups`)."""
+    return np.array([group_share(group, gap) for group, gap in found])
 
 
 __all__ = [
@@ -170,4 +160,5 @@ __all__ = [
     "JointConfidence",
     "group_share",
     "lookup",
+    "shares",
 ]

@@ -25,7 +25,7 @@ from upperpose.features import Background, FeatureConfig, FeatureExtractor, Fram
 from upperpose.features.checks import check_frame
 from upperpose.features.online import OnlineBackground, body_region
 from upperpose.fit.arm_corrections import ArmCorrections
-from upperpose.fit.confidence import JointConfidence
+from upperpose.fit.confidence import JointConfidence, shares
 from upperpose.fit.fitter import PART_ANGLES, PARTS, FitLike, Fitter, FrameSearch, StaticFit
 from upperpose.fit.person_finder import PersonFinder, Start, starting_root
 from upperpose.fit.recovery import (
@@ -463,8 +463,10 @@ class Tracker:
         self._last_joints, self._last_cost = joints_2d, float(fit.cost)
         size = (int(features.sil.shape[0]), int(features.sil.shape[1]))
         excess_by_arm = {arm: float(excess[k]) for k, arm in enumerate(ARMS)}
-        confidence = self._confidence.update(
-            anatomical_2d, joints_2d, features, distances, lost_parts, self._corrected, excess_by_arm, size
+        confidence = shares(
+            self._confidence.groups(
+                anatomical_2d, joints_2d, features, distances, lost_parts, self._corrected, excess_by_arm, size
+            )
         )
         return TrackResult(
             index,
