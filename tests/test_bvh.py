@@ -13,23 +13,11 @@ from hypothesis import strategies as st
 import upperpose
 from tracker_helpers import TruthFitter, clip, truth
 from upperpose.cli import main
-from upperpose.io.bvh import FLIP, euler_zyx_degrees, write_bvh
+from upperpose.io.bvh import euler_zyx_degrees, write_bvh
 from upperpose.io.posefile import load_poses
+from upperpose.lab.bvh_roundtrip import bvh_joints, round_trip_mm
 
-bvhio = pytest.importorskip("bvhio")
-NAMES = ["Head", "RightShoulder", "LeftShoulder", "RightForearm", "LeftForearm", "RightHand", "LeftHand"]
-
-
-def bvh_joints(path: Path) -> list[np.ndarray]:
-    """World positions of the seven reported joints per frame, by bvhio, in the camera frame."""
-    root = bvhio.readAsHierarchy(str(path))
-    frames = int(next(line for line in path.read_text().splitlines() if line.startswith("Frames:")).split()[1])
-    out = []
-    for f in range(frames):
-        root.loadPose(f)
-        where = {j.Name: np.array(list(j.PositionWorld)) for j, _, _ in root.layout()}
-        out.append(np.array([where[n] for n in NAMES]) @ FLIP)
-    return out
+pytest.importorskip("bvhio")
 
 
 @settings(max_examples=10, deadline=None)
@@ -84,10 +72,6 @@ def test_track_writes_a_bvh_matching_its_pose_file(
     doc = load_poses(out)
     assert doc["upperpose_version"] == upperpose.__version__
     assert set(doc["camera"]) == {"model", "focal", "cx", "cy"} and doc["body"]["upper_arm_length"] > 0
-    got = bvh_joints(bvh)
-    assert len(got) == len(doc["frames"])
-    posed = [(k, f) for k, f in enumerate(doc["frames"]) if f["joints_3d"] is not None]
-    assert len(posed) > 10
-    for k, f in posed:
-        np.testing.assert_allclose(got[k], np.array(f["joints_3d"]), atol=1e-3)
+    largest_mm, _, posed = round_trip_mm(out, bvh)
+    assert posed > 10 and largest_mm < 1.0
     assert json.loads(out.read_text())["frames"][0]["frame"] == 0
