@@ -19,6 +19,7 @@ import cv2
 import numpy as np
 import numpy.typing as npt
 
+from upperpose.fit.fitter import PARTS
 from upperpose.fit.recovery import ARMS
 
 # Restart r searches with the seed `seed + r * RESTART_STRIDE` (mod 2**64; the core keys its
@@ -102,7 +103,5 @@ def global_fit(
     ]
     return candidates[min(scored)[1]]
 
-
-PARTS = ("torso", *ARMS)
 
 __all__ = ["RESTART_STRIDE", "Agreement", "agreement", "global_fit", "restart_seed"]
