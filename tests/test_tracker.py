@@ -11,6 +11,8 @@ import pytest
 
 import upperpose
 from tracker_helpers import PART_ANGLES, TruthFitter, camera_of, clip, truth
+from upperpose.features import SkinBlob
+from upperpose.features.blobs import blob_from_pixels
 from upperpose.features.faces import FaceDetector
 from upperpose.features.packing import pack_rows
 from upperpose.features.points import SkinPoint
@@ -19,10 +21,13 @@ from upperpose.fit.reach import ArmReach
 from upperpose.fit.recovery import DoubtDetector, HandFollower, LostDetector, unexplained_by_side
 from upperpose.fit.root import RootEstimator
 from upperpose.fit.startup import (
+    HAND_REACH_FACES,
     StartupFit,
     check_apose,
     depth_from_face,
+    face_centre,
     fit_bodies,
+    hand_candidates,
     head_raised,
     root_from_head,
     widened,
@@ -56,6 +61,23 @@ def test_state_machine_lost_and_leaving() -> None:
     assert sm.tracking(present=False, lost=False) == TRACKED
     assert sm.tracking(present=False, lost=False) == NO_PERSON
     assert not sm.has_person
+
+
+def test_hands_of_a_large_body_seen_with_a_small_face_box_are_hand_candidates() -> None:
+    # The default body's A-pose hands hang 5.6 face widths from its face; 20 % larger (start-up's
+    # clamp) and seen with a face box 8 % small, 7.3: still hands. A skin blob much further off
+    # (a lamp across the room) is not.
+    face = (284, 85, 32, 32)
+    centre = face_centre(face)
+
+    def disc_at(distance_faces: float, angle: float) -> SkinBlob:
+        x, y = centre + distance_faces * face[2] * np.array([np.sin(angle), np.cos(angle)])
+        pixels = np.zeros((480, 640), np.uint8)
+        cv2.circle(pixels, (round(x), round(y)), 12, 255, -1)
+        return blob_from_pixels(pixels, (0, 0), 0.5)
+
+    blobs = [disc_at(7.3, -0.6), disc_at(7.3, 0.6), disc_at(HAND_REACH_FACES + 1.0, 0.3)]
+    assert hand_candidates(face, blobs) == [0, 1]
 
 
 def test_apose_check_thresholds() -> None:

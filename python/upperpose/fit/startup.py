@@ -37,6 +37,10 @@ from upperpose.model import BodyModel, Camera, Pose, model_points, project, rend
 # Width of OpenCV's frontal-face box in metres, as found at 1.5x downscale on the dev set's
 # start-up frames (single frames vary by about +-8 %: use a median over several frames).
 FACE_WIDTH_M = 0.166
+# How far from the face a hand may be, in face widths: the default body's hands hang 5.6 face
+# widths from its face in the A-pose; a body 20 % larger (start-up's clamp) seen with a face box
+# 8 % small (the box's spread over frames) puts them at 7.3.
+HAND_REACH_FACES = 8.0
 # The dimensions scaled together as the body's width.
 WIDTH_KEYS: tuple[Literal["shoulder_width", "torso_half_width", "torso_half_depth"], ...] = (
     "shoulder_width",
@@ -56,10 +60,10 @@ def face_centre(face: FaceBox) -> npt.NDArray[np.float64]:
 def hand_candidates(face: FaceBox, blobs: list[SkinBlob], below: bool = True) -> list[int]:
     """Indices of the blobs that may be hands.
 
-    Blobs clear of the face box, whose centroid lies within seven face widths of the face and
-    which are at most 2.5 face areas (a bare forearm and hand is about one; a skin-coloured
-    shirt or khaki trousers are one huge blob); with `below`, only those whose centroid lies
-    below the face (the A-pose).
+    Blobs clear of the face box, whose centroid lies within `HAND_REACH_FACES` face widths of
+    the face and which are at most 2.5 face areas (a bare forearm and hand is about one; a
+    skin-coloured shirt or khaki trousers are one huge blob); with `below`, only those whose
+    centroid lies below the face (the A-pose).
     """
     x, y, w, h = face
     head = face_centre(face)
@@ -68,7 +72,7 @@ def hand_candidates(face: FaceBox, blobs: list[SkinBlob], below: bool = True) ->
         cx, cy = blob.centroid
         bx, by, bw, bh = blob.bbox
         overlaps = bx < x + w and bx + bw > x and by < y + h and by + bh > y
-        far = np.hypot(cx - head[0], cy - head[1]) > 7.0 * w
+        far = np.hypot(cx - head[0], cy - head[1]) > HAND_REACH_FACES * w
         if not (overlaps or far or (below and cy < head[1] + 0.5 * w) or blob.area > 2.5 * w * h):
             out.append(index)
     return out
@@ -386,6 +390,7 @@ def fit_bodies(
 
 __all__ = [
     "FACE_WIDTH_M",
+    "HAND_REACH_FACES",
     "WIDTH_KEYS",
     "APoseCheck",
     "StartupFit",
