@@ -91,8 +91,8 @@ def test_format_check_reports_the_joints_at_half_or_more() -> None:
 
 
 def test_missing_validation_folder_is_one_clear_line(tmp_path, capsys) -> None:  # type: ignore[no-untyped-def]
-    assert main(["--validation", str(tmp_path / "nowhere")]) == 2
+    assert main([str(tmp_path / "nowhere")]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "no validation set at" in err and "nowhere" in err
-    assert main(["--validation", str(tmp_path)]) == 2
+    assert main([str(tmp_path)]) == 2
     assert "no clips" in capsys.readouterr().err

@@ -10,7 +10,10 @@ table group) the count, the measured share and the 10th percentile, then TABLES 
 to paste. The check: the share of joints whose current confidence is at least 0.5, and how many
 of those are within 10 px (docs/RESULTS.md, "Confidence").
 
-    python -m upperpose.lab.confidence [--validation ../shared/validation] [--seed 0] [--check-only]
+    python -m upperpose.lab.confidence VALIDATION_DIR [--seed 0] [--check-only]
+
+VALIDATION_DIR holds one folder per clip with `video.mp4`, `background.png`, `meta.json` and
+`gt.json` (the external validation set; it is not part of the project).
 
 After changing the tracker, run it on seed 0, paste the tables into `upperpose/fit/confidence.py`
 and rerun the check (also on seed 1). One run of the 16 clips takes a minute or a few.
@@ -208,13 +211,13 @@ def format_check(joints: Sequence[Joint]) -> str:
 def main(argv: list[str] | None = None) -> int:
     """The command line (see the module's docstring)."""
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--validation", type=Path, default=Path("../shared/validation"), help="validation set")
+    parser.add_argument("validation", type=Path, help="the validation set: one folder per clip with gt.json")
     parser.add_argument("--seed", type=int, default=0, help="the tracker's seed (the resamplings' is fixed: 0)")
     parser.add_argument("--clips", default="", help="comma-separated clip prefixes, e.g. v01,v05 (default: all)")
     parser.add_argument("--check-only", action="store_true", help="print only the check, not the tables")
     args = parser.parse_args(argv)
     if not args.validation.is_dir():
-        print(f"upperpose.lab.confidence: no validation set at {args.validation} (--validation DIR)", file=sys.stderr)
+        print(f"upperpose.lab.confidence: no validation set at {args.validation}", file=sys.stderr)
         return 2
     folders = sorted(p for p in args.validation.iterdir() if (p / "gt.json").is_file())
     folders = [p for p in folders if not args.clips or any(p.name.startswith(c) for c in args.clips.split(","))]
