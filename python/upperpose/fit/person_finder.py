@@ -19,7 +19,7 @@ import numpy.typing as npt
 
 from upperpose.features import FeatureConfig, FeatureExtractor, FrameFeatures
 from upperpose.fit.acquire import agreement, global_fit, restart_seed
-from upperpose.fit.fitter import PARTS, FitLike, Fitter
+from upperpose.fit.fitter import PARTS, FitLike, Fitter, FrameSearch
 from upperpose.fit.recovery import ARMS, HAND_JOINT
 from upperpose.fit.root import RootEstimator
 from upperpose.fit.search import SearchConfig, reseeded
@@ -259,10 +259,8 @@ class PersonFinder:
 
     def _rescored(self, features: FrameFeatures, chosen: StartupFit, index: int) -> float:
         """A start-up fit's cost in the full-range search's regions (comparable between fits)."""
-        fit = chosen.fit
-        pose, root = np.ascontiguousarray(fit.pose, dtype=np.float64), np.ascontiguousarray(fit.root, dtype=np.float64)
-        args = dict(self._startup_fit_args(index), mode="initial", window_scale=1.0, search=())
-        return float(self._fitter(features, pose, root, chosen.body, self.camera, **args).cost)
+        search = FrameSearch(self._fitter, chosen.body, self.camera, self._search_config, index, 1.0 / self._fps)
+        return search.fair_cost(features, np.asarray(chosen.fit.pose), np.asarray(chosen.fit.root))
 
     def _startup_fit_args(self, index: int) -> dict[str, Any]:
         angle_scales = np.ones(13)
