@@ -33,3 +33,16 @@ def test_a_face_the_downscaled_pass_misses_is_found_at_full_size() -> None:
 
 def test_an_empty_frame_has_no_face_at_any_scale() -> None:
     assert FaceDetector()(np.full((480, 640, 3), 128, np.uint8)) == []
+
+
+def test_near_finds_the_face_around_a_point_at_its_size_only() -> None:
+    frame = small_face_scene(60)
+    detector = FaceDetector()
+    (x, y, w, h), *_ = detector(frame)
+    centre = np.array([x + w / 2, y + h / 2])
+    # Searched from 1.5 face widths below the face (a head that slid down the chest).
+    (nx, ny, nw, nh), *_ = detector.near(frame, centre + [0.0, 1.5 * w], w, 3.0)
+    assert abs(nx - x) <= 0.15 * w and abs(ny - y) <= 0.15 * w and abs(nw - w) <= 0.2 * w
+    assert detector.near(frame, centre + [0.0, 4.0 * w], w, 3.0) == []  # the face is outside the square
+    assert detector.near(frame, centre, 2.5 * w, 3.0) == []  # a face this size is not the person's
+    assert detector.near(frame, [np.nan, 0.0], w, 3.0) == [] and detector.near(frame, centre, 0.0, 3.0) == []

@@ -618,3 +618,73 @@ def test_crossed_arms_on_swapped_hand_points_are_untangled_when_that_costs_less(
         assert labels.right_hand is features.right_hand  # type: ignore[attr-defined]
     else:
         assert kept is fit and labels is swapped and moved == ()
+
+
+def test_move_to_face_puts_the_model_head_on_the_face_and_forgets_the_velocity() -> None:
+    estimator, camera, body, pose = _root_estimator()
+    fitted = None
+    for k in range(4):  # a head point sliding down 10 px a frame (a hand down the chest)
+        fitted = estimator.update(_HeadOnly((320.0, 150.0 + 10.0 * k), (50, 60)), pose, fitted)
+    root = estimator.move_to_face([320.0, 150.0], pose)
+    head = upperpose.project(camera, model_points(pose, root, body))[0]
+    np.testing.assert_allclose(head, [320.0, 150.0], atol=1e-6)
+    assert estimator.face_px == pytest.approx(50.0)
+    # The next frame starts from the face, not from the slide's velocity.
+    fitted = estimator.update(_HeadOnly((320.0, 150.0), (50, 60)), pose, root)
+    head = upperpose.project(camera, model_points(pose, fitted, body))[0]
+    np.testing.assert_allclose(head, [320.0, 150.0], atol=0.5)
+
+
+@pytest.mark.parametrize(("slide", "check", "moved"), [(2.0, 5, True), (2.0, 0, False), (-2.0, 5, False)])
+def test_a_model_head_carried_off_the_face_is_put_back_under_it(
+    monkeypatch: pytest.MonkeyPatch, gt: dict, slide: float, check: int, moved: bool
+) -> None:
+    # From frame 26 (tracked from about 21) the head's skin point slides `slide` pixels a frame
+    # (down: a hand held to the chest carries it; up: the check leaves a face below the head
+    # alone, a bow), until the face check moves the root.
+    folder = clip()
+    plate = cv2.imread(str(folder / "background.png"))
+    update, move = RootEstimator.update, RootEstimator.move_to_face
+    moves: list[np.ndarray] = []
+    frame_index = [0]
+
+    def sliding(self: RootEstimator, features: object, pose: object, fitted_root: object = None) -> np.ndarray:
+        head = features.head  # type: ignore[attr-defined]
+        if not moves and frame_index[0] >= 26 and head is not None:
+            x, y = head.xy
+            carried = dataclasses.replace(head, xy=(x, y + slide * (frame_index[0] - 25)))
+            features = dataclasses.replace(features, head=carried)  # type: ignore[type-var]
+        return update(self, features, pose, fitted_root)  # type: ignore[arg-type]
+
+    def moving(self: RootEstimator, face_px: object, pose: object) -> np.ndarray:
+        moves.append(np.asarray(face_px, dtype=np.float64))
+        return move(self, face_px, pose)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(RootEstimator, "update", sliding)
+    monkeypatch.setattr(RootEstimator, "move_to_face", moving)
+    camera = camera_of(folder)
+    tracker = Tracker(camera, plate, TrackerConfig(face_check_frames=check), fps=15.0, fitter=TruthFitter(gt))
+    results = []
+    with VideoReader(folder / "video.mp4") as reader:
+        for k, frame in enumerate(reader):
+            frame_index[0] = k
+            results.append(tracker.update(frame))
+            last_frame = frame
+    assert bool(moves) == moved
+    last = results[-1]
+    head = upperpose.project(camera, model_points(last.pose, last.root, tracker.body))[0]
+    box = FaceDetector()(last_frame)[0]
+    face, width = face_centre(box), box[2]
+    if moved:
+        # Moved on the second check in a row (every 5 frames) that found the face away.
+        assert len(moves) == 1
+        np.testing.assert_allclose(moves[0], face, atol=0.25 * width)
+        assert np.hypot(*(head - face)) < 0.25 * width
+    else:
+        assert np.hypot(*(head - face)) > width
+
+
+@pytest.mark.parametrize("bad", [{"face_check_frames": -1}, {"face_check_frames": 2.5}, {"face_drift_share": 0.0}])
+def test_bad_face_check_settings_are_refused(bad: dict) -> None:
+    with pytest.raises(upperpose.InputError, match=next(iter(bad))):
+        TrackerConfig(**bad)

@@ -2,7 +2,8 @@
 
 Start-up looks for the person's face; background estimation asks whether a static lead-in
 shows anybody. Both accept a box only when enough of it is skin: the cascade fires on
-bookshelves and pictures, a real face is skin.
+bookshelves and pictures, a real face is skin. Tracking checks now and then that the model's
+head is still on the face (`FaceDetector.near`), near the head and at the person's face size.
 """
 
 from __future__ import annotations
@@ -47,6 +48,36 @@ class FaceDetector:
         if not boxes and s > 1:
             boxes = self._detect(grey, 1.0)
         return sorted(boxes, key=lambda b: -b[2])
+
+    def near(self, frame: npt.NDArray[np.uint8], centre: npt.ArrayLike, width_px: float, reach: float) -> list[FaceBox]:
+        """Face boxes within `reach` face widths of `centre`, `width_px` wide give or take a third.
+
+        Only that square of the frame is searched, shrunk so the face is about 64 pixels wide,
+        and only at those sizes: about a third of the time of a full search at 640x480.
+        """
+        if not (width_px > 0 and np.isfinite(width_px)):
+            return []
+        cx, cy = (float(v) for v in np.asarray(centre, dtype=np.float64))
+        if not (np.isfinite(cx) and np.isfinite(cy)):
+            return []
+        height, width = frame.shape[:2]
+        half = reach * width_px
+        x0, y0 = max(int(cx - half), 0), max(int(cy - half), 0)
+        x1, y1 = min(int(cx + half), width), min(int(cy + half), height)
+        if x1 - x0 < width_px or y1 - y0 < width_px:
+            return []
+        grey = cast(npt.NDArray[np.uint8], cv2.cvtColor(np.ascontiguousarray(frame[y0:y1, x0:x1]), cv2.COLOR_BGR2GRAY))
+        s = max(1.0, width_px / 64.0)
+        if s > 1:
+            grey = cast(npt.NDArray[np.uint8], cv2.resize(grey, None, fx=1 / s, fy=1 / s, interpolation=cv2.INTER_AREA))
+        low, high = max(12, int(0.7 * width_px / s)), int(np.ceil(1.45 * width_px / s))
+        # Finer scale steps and one neighbour fewer than a full search: a small square's window
+        # grid misses faces the full frame's grid finds (at 1.1 and 4, 3 of 6 test faces).
+        found = self._cascade.detectMultiScale(
+            grey, scaleFactor=1.05, minNeighbors=3, minSize=(low, low), maxSize=(high, high)
+        )
+        boxes = [(round(x * s) + x0, round(y * s) + y0, round(w * s), round(h * s)) for x, y, w, h in found]
+        return cast(list[FaceBox], sorted(boxes, key=lambda b: -b[2]))
 
     def _detect(self, grey: npt.NDArray[np.uint8], s: float) -> list[FaceBox]:
         if s > 1:

@@ -12,7 +12,8 @@ the torso search refines). A measurement farther from last frame's root (moved o
 velocity) than a head moves in one frame is held back, and does not move the depth either,
 until a few in a row agree with each other (then the person did move). Frames without a usable
 head point blend with the last measurement instead, so that the search cannot walk the body away
-frame after frame.
+frame after frame. When a frontal face is found away from the model's head (`move_to_face`:
+the head point followed a hand down the chest), the root is put back under the face at once.
 """
 
 from __future__ import annotations
@@ -89,6 +90,22 @@ class RootEstimator:
     def depth(self) -> float:
         """The current root depth, metres."""
         return float(self.root[2])
+
+    @property
+    def face_px(self) -> float | None:
+        """The start-up face's width in pixels at the current depth (None: not known)."""
+        return None if self._size0 is None else self._at_depth(self._size0)
+
+    def move_to_face(self, face_px: npt.ArrayLike, pose: npt.ArrayLike) -> npt.NDArray[np.float64]:
+        """Puts the root's X, Y under a face's centre (pixels) at the predicted `pose`, as start-up did.
+
+        The jump is no velocity, and the head points measured before it no longer count.
+        """
+        self.root[:2] = root_from_head(self.camera, face_px, self.depth, pose, self.body)[:2]
+        self._anchor = self.root[:2].copy()
+        self._previous_fit = None
+        self._run.clear()
+        return cast(npt.NDArray[np.float64], self.root.copy())
 
     def _head_blob_ok(self, features: FrameFeatures) -> bool:
         """The head point is a measurement: not merged, and its blob about a head's size.

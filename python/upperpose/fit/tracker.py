@@ -5,8 +5,9 @@ and the A-pose (start-up, §3.3), or fit any pose around the face (`fit/person_f
 per frame predict the pose (constant velocity), extract the features around the prediction,
 estimate the root, search the moving parts (motion flags, §3.4.3) inside trajectory windows,
 and check for lost hands (§3.4.9), which are searched over their anatomical ranges until
-found (`fit/arm_corrections.py`). Without a clean plate the background is learnt here too,
-away from the person. See docs/tracker.md.
+found (`fit/arm_corrections.py`); every few frames a frontal face away from the model's head
+puts the body back under it. Without a clean plate the background is learnt here too, away
+from the person. See docs/tracker.md.
 """
 
 from __future__ import annotations
@@ -40,7 +41,7 @@ from upperpose.fit.recovery import (
 )
 from upperpose.fit.root import RootEstimator
 from upperpose.fit.search import Limits, SearchConfig, fit_frame
-from upperpose.fit.startup import FaceBox, FaceDetector, choose_face, pixels_per_metre
+from upperpose.fit.startup import FaceBox, FaceDetector, choose_face, face_centre, pixels_per_metre
 from upperpose.fit.state import StateMachine
 from upperpose.fit.tracker_config import TrackerConfig
 from upperpose.fit.visibility import visibility
@@ -61,6 +62,9 @@ FloatArray = npt.NDArray[np.float64]
 # face was last detected: the cascade misses a face now and then, and a pixel never seen would be
 # learnt at once (half a second at 30 fps).
 FACE_HOLD_FRAMES = 15
+# The face check looks this many face widths around the model's head: the head point slides
+# about a shoulder width (two face widths) down a hand held to the chest.
+FACE_CHECK_REACH = 3.0
 
 
 def _limit_hull(preset: Limits) -> tuple[FloatArray, FloatArray]:
@@ -100,6 +104,7 @@ class Tracker:
     _recovered: bool
     _loose_baseline: list[list[float]]
     _corrected: tuple[str, ...]  # arms a correction moved this frame (no velocity to extrapolate)
+    _face_away: FloatArray | None  # a face found away from the model's head at the last check
 
     def __init__(
         self,
@@ -308,6 +313,7 @@ class Tracker:
         self._lost.reset()
         self._doubt.reset()
         self._corrected = ()
+        self._face_away = None
         self._follow.reset()
         self._corrections.reset()
         self._confidence.reset()
@@ -332,6 +338,7 @@ class Tracker:
             predicted_joints[HAND_JOINT[arm]] = xy
         features = self._features = self._extractor(frame, predicted_joints, self._labels)
         root = self._root.update(features, prediction, self._last_root)
+        root = self._keep_head_on_face(frame, index, prediction, root)
         t1 = time.perf_counter()
 
         lost = [arm for arm in ARMS if self._lost.lost[arm]]
@@ -362,6 +369,42 @@ class Tracker:
         result = self._accept(fit, features, index, searched, {"features": t1 - t0, "search": t2 - t1})
         result.timings["other"] = time.perf_counter() - t2
         return result
+
+    def _keep_head_on_face(
+        self, frame: npt.NDArray[np.uint8], index: int, pose: FloatArray, root: FloatArray
+    ) -> FloatArray:
+        """Every `face_check_frames` frames, the root put back under the face if the head left it.
+
+        The root follows the head's skin point, which a hand touching the face or held to the
+        chest can carry away; the whole body then slides after it. A frontal face of the
+        person's size within `FACE_CHECK_REACH` face widths of the model's head, more than
+        `face_drift_share` face widths from it, on two checks in a row at the same place, moves
+        the root under it; not when the face lies below the head (a bow).
+        """
+        every = self.config.face_check_frames
+        width = self._root.face_px
+        if every <= 0 or index % every or width is None:
+            return root
+        head = project(self.camera, model_points(pose, root, self.body))[0]
+        near = getattr(self._detect_faces, "near", None)
+        if near is not None:
+            boxes = near(frame, head, width, FACE_CHECK_REACH)
+        else:  # an injected detector: the whole frame, then the same limits
+            boxes = [b for b in self._detect_faces(frame) if 0.7 * width <= b[2] <= 1.45 * width]
+        centres = [face_centre(b) for b in boxes]
+        centres = [c for c in centres if np.hypot(*(c - head)) <= FACE_CHECK_REACH * width]
+        if not centres:
+            self._face_away = None
+            return root
+        centre = min(centres, key=lambda c: float(np.hypot(*(c - head))))
+        # A face well below the model's head is a person bowing, which the torso's range may
+        # not reach: the head is left where the fit put it.
+        if np.hypot(*(centre - head)) <= self.config.face_drift_share * width or centre[1] > head[1] + 0.5 * width:
+            self._face_away = None
+            return root
+        confirmed = self._face_away is not None and np.hypot(*(centre - self._face_away)) <= 0.5 * width
+        self._face_away = None if confirmed else centre
+        return self._root.move_to_face(centre, pose) if confirmed else root
 
     def _arm_scales(self, interval: float) -> FloatArray | None:
         """Per-angle window factors: each arm's windows grow with its last change.
@@ -525,6 +568,7 @@ class Tracker:
         self._lost.reset()
         self._doubt.reset()
         self._corrected = ()
+        self._face_away = None
         self._follow.reset()
         self._corrections.reset()
         self._confidence.reset()

@@ -94,6 +94,10 @@ class TrackerConfig:
         untangle_hands: when both hands hold skin blobs of their own and the fitted hands lie
             crossed in the image, the other labelling of the two blobs is also tried (both arms
             sought from the swapped points as above); the lower cost wins. Needs the reach.
+        face_check_frames, face_drift_share: every `face_check_frames` frames while tracking,
+            frontal faces of the person's size are sought around the model's head; one farther
+            than `face_drift_share` face widths from it on two checks in a row moves the root
+            under it (the head had followed a hand away). `face_check_frames` 0 turns this off.
     """
 
     particles: int | None = None
@@ -133,6 +137,8 @@ class TrackerConfig:
     reach_share: float = 0.5
     reach_candidates: int = 6
     untangle_hands: bool = True
+    face_check_frames: int = 5
+    face_drift_share: float = 0.5
     search_options: dict[str, Any] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
@@ -163,6 +169,7 @@ class TrackerConfig:
             "doubt_frames",
             "reach_candidates",
             "any_pose_frames",
+            "face_check_frames",
         ):
             whole(name, 0, getattr(self, name))
         whole("acquire_restarts", 0, self.acquire_restarts)
@@ -170,7 +177,13 @@ class TrackerConfig:
             real(name, getattr(self, name), 0.0, 1.0)
         for name in ("root_window", "unexplained_share", "doubt_share", "velocity_window_gain", "acquire_hand_share"):
             real(name, getattr(self, name), 0.0)
-        for name in ("lost_threshold", "recovery_window_scale", "startup_window_scale", "reach_share"):
+        for name in (
+            "lost_threshold",
+            "recovery_window_scale",
+            "startup_window_scale",
+            "reach_share",
+            "face_drift_share",
+        ):
             real(name, getattr(self, name), 0.0, open_low=True)
         if self.sigma is not None:
             real("sigma", self.sigma, 0.0, open_low=True)
