@@ -6,7 +6,7 @@ import cv2
 import numpy as np
 import pytest
 
-from upperpose.features.faces import FaceDetector
+from upperpose.features.faces import FaceDetector, faces_near
 
 skimage_data = pytest.importorskip("skimage.data")
 
@@ -46,3 +46,11 @@ def test_near_finds_the_face_around_a_point_at_its_size_only() -> None:
     assert detector.near(frame, centre + [0.0, 4.0 * w], w, 3.0) == []  # the face is outside the square
     assert detector.near(frame, centre, 2.5 * w, 3.0) == []  # a face this size is not the person's
     assert detector.near(frame, [np.nan, 0.0], w, 3.0) == [] and detector.near(frame, centre, 0.0, 3.0) == []
+
+
+def test_faces_near_keeps_the_persons_size_within_reach_nearest_first() -> None:
+    boxes = [(260, 100, 40, 40), (112, 150, 36, 36), (110, 100, 80, 80), (100, 100, 40, 40)]
+    # Expected a 40 px face centred at (130, 140): the 80 px box is another size; the box at
+    # x 260 lies 3.8 face widths off, beyond a reach of 3; the others 0.6 and 0.7 (nearest first).
+    assert faces_near(boxes, (130.0, 140.0), 40.0, 3.0) == [(100, 100, 40, 40), (112, 150, 36, 36)]
+    assert faces_near(boxes, (130.0, 140.0), 40.0, 4.0)[-1] == (260, 100, 40, 40)

@@ -15,6 +15,27 @@ import numpy as np
 import numpy.typing as npt
 
 FaceBox = tuple[int, int, int, int]
+# The same person's face at another distance or angle: its box within these factors of the
+# width expected.
+SAME_FACE_SIZES = (0.7, 1.45)
+
+
+def face_centre(face: FaceBox) -> npt.NDArray[np.float64]:
+    """Centre of a face box in pixels (about the head joint: the centre of the head)."""
+    x, y, w, h = face
+    return np.array([x + (w - 1) / 2.0, y + (h - 1) / 2.0])
+
+
+def faces_near(boxes: list[FaceBox], centre: npt.ArrayLike, width_px: float, reach: float) -> list[FaceBox]:
+    """The boxes that may be the face of a person expected at `centre`, nearest first.
+
+    Those `SAME_FACE_SIZES` times `width_px` wide whose centre lies within `reach` face widths
+    of `centre`.
+    """
+    low, high = SAME_FACE_SIZES
+    point = np.asarray(centre, dtype=np.float64)
+    gaps = [(float(np.hypot(*(face_centre(b) - point))), b) for b in boxes if low * width_px <= b[2] <= high * width_px]
+    return [b for gap, b in sorted(gaps, key=lambda g: g[0]) if gap <= reach * width_px]
 
 
 class FaceDetector:
@@ -50,10 +71,10 @@ class FaceDetector:
         return sorted(boxes, key=lambda b: -b[2])
 
     def near(self, frame: npt.NDArray[np.uint8], centre: npt.ArrayLike, width_px: float, reach: float) -> list[FaceBox]:
-        """Face boxes within `reach` face widths of `centre`, `width_px` wide give or take a third.
+        """`faces_near` of the faces in the square `reach` face widths around `centre`.
 
         Only that square of the frame is searched, shrunk so the face is about 64 pixels wide,
-        and only at those sizes: about a third of the time of a full search at 640x480.
+        and only at `SAME_FACE_SIZES`: about a third of the time of a full search at 640x480.
         """
         if not (width_px > 0 and np.isfinite(width_px)):
             return []
@@ -70,14 +91,14 @@ class FaceDetector:
         s = max(1.0, width_px / 64.0)
         if s > 1:
             grey = cast(npt.NDArray[np.uint8], cv2.resize(grey, None, fx=1 / s, fy=1 / s, interpolation=cv2.INTER_AREA))
-        low, high = max(12, int(0.7 * width_px / s)), int(np.ceil(1.45 * width_px / s))
+        low, high = max(12, int(SAME_FACE_SIZES[0] * width_px / s)), int(np.ceil(SAME_FACE_SIZES[1] * width_px / s))
         # Finer scale steps and one neighbour fewer than a full search: a small square's window
         # grid misses faces the full frame's grid finds (at 1.1 and 4, 3 of 6 test faces).
         found = self._cascade.detectMultiScale(
             grey, scaleFactor=1.05, minNeighbors=3, minSize=(low, low), maxSize=(high, high)
         )
         boxes = [(round(x * s) + x0, round(y * s) + y0, round(w * s), round(h * s)) for x, y, w, h in found]
-        return cast(list[FaceBox], sorted(boxes, key=lambda b: -b[2]))
+        return faces_near(boxes, centre, width_px, reach)
 
     def _detect(self, grey: npt.NDArray[np.uint8], s: float) -> list[FaceBox]:
         if s > 1:

@@ -30,7 +30,7 @@ import numpy.typing as npt
 
 from upperpose.exceptions import InputError
 from upperpose.features import FeatureConfig, FrameFeatures, SkinBlob, SkinPoint
-from upperpose.features.faces import FaceBox, FaceDetector, choose_face
+from upperpose.features.faces import FaceBox, FaceDetector, choose_face, face_centre
 from upperpose.features.points import far_end, principal_direction, unit
 from upperpose.model import BodyModel, Camera, Pose, model_points, project, render_masks
 
@@ -49,12 +49,6 @@ WIDTH_KEYS: tuple[Literal["shoulder_width", "torso_half_width", "torso_half_dept
 )
 # Joint indices (JOINT_NAMES order).
 HEAD, R_SHOULDER, L_SHOULDER, R_ELBOW, L_ELBOW, R_HAND, L_HAND = range(7)
-
-
-def face_centre(face: FaceBox) -> npt.NDArray[np.float64]:
-    """Centre of a face box in pixels (about the head joint: the centre of the head)."""
-    x, y, w, h = face
-    return np.array([x + (w - 1) / 2.0, y + (h - 1) / 2.0])
 
 
 def hand_candidates(face: FaceBox, blobs: list[SkinBlob], below: bool = True) -> list[int]:

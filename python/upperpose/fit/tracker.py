@@ -24,6 +24,7 @@ from upperpose._upperpose import joint_limits
 from upperpose.exceptions import InputError
 from upperpose.features import Background, FeatureConfig, FeatureExtractor, FrameFeatures, skin_mask
 from upperpose.features.checks import check_frame
+from upperpose.features.faces import face_centre, faces_near
 from upperpose.features.online import OnlineBackground, body_region
 from upperpose.fit.arm_corrections import ArmCorrections
 from upperpose.fit.confidence import JointConfidence, shares
@@ -41,7 +42,7 @@ from upperpose.fit.recovery import (
 )
 from upperpose.fit.root import RootEstimator
 from upperpose.fit.search import Limits, SearchConfig, fit_frame
-from upperpose.fit.startup import FaceBox, FaceDetector, choose_face, face_centre, pixels_per_metre
+from upperpose.fit.startup import FaceBox, FaceDetector, choose_face, pixels_per_metre
 from upperpose.fit.state import StateMachine
 from upperpose.fit.tracker_config import TrackerConfig
 from upperpose.fit.visibility import visibility
@@ -389,14 +390,12 @@ class Tracker:
         near = getattr(self._detect_faces, "near", None)
         if near is not None:
             boxes = near(frame, head, width, FACE_CHECK_REACH)
-        else:  # an injected detector: the whole frame, then the same limits
-            boxes = [b for b in self._detect_faces(frame) if 0.7 * width <= b[2] <= 1.45 * width]
-        centres = [face_centre(b) for b in boxes]
-        centres = [c for c in centres if np.hypot(*(c - head)) <= FACE_CHECK_REACH * width]
-        if not centres:
+        else:  # an injected detector: the whole frame, then the same choice
+            boxes = faces_near(self._detect_faces(frame), head, width, FACE_CHECK_REACH)
+        if not boxes:
             self._face_away = None
             return root
-        centre = min(centres, key=lambda c: float(np.hypot(*(c - head))))
+        centre = face_centre(boxes[0])
         # A face well below the model's head is a person bowing, which the torso's range may
         # not reach: the head is left where the fit put it.
         if np.hypot(*(centre - head)) <= self.config.face_drift_share * width or centre[1] > head[1] + 0.5 * width:
