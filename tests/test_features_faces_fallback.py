@@ -6,7 +6,7 @@ import cv2
 import numpy as np
 import pytest
 
-from upperpose.features.faces import FaceDetector, faces_near
+from upperpose.features.faces import FaceDetector, SteadyFace, faces_near
 
 skimage_data = pytest.importorskip("skimage.data")
 
@@ -54,3 +54,16 @@ def test_faces_near_keeps_the_persons_size_within_reach_nearest_first() -> None:
     # x 260 lies 3.8 face widths off, beyond a reach of 3; the others 0.6 and 0.7 (nearest first).
     assert faces_near(boxes, (130.0, 140.0), 40.0, 3.0) == [(100, 100, 40, 40), (112, 150, 36, 36)]
     assert faces_near(boxes, (130.0, 140.0), 40.0, 4.0)[-1] == (260, 100, 40, 40)
+
+
+def test_a_steady_face_counts_after_its_frames_and_a_jump_or_a_gap_starts_again() -> None:
+    steady = SteadyFace(3)
+    face, nudged, jumped = (100, 80, 40, 40), (104, 82, 42, 42), (130, 80, 40, 40)
+    assert [steady.update([face]), steady.update([nudged])] == [None, None]
+    assert steady.update([face, (10, 10, 20, 20)]) == face  # the largest box, third frame in a row
+    assert steady.update([jumped]) is None  # moved 0.75 of its width: a new streak
+    assert [steady.update([jumped]), steady.update([jumped])] == [None, jumped]
+    assert steady.update([]) is None and steady.update([jumped]) is None  # a frame without a face
+    steady.reset()
+    assert [steady.update([face]) for _ in range(3)] == [None, None, face]
+    assert SteadyFace(1).update([face]) == face

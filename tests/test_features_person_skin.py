@@ -138,3 +138,24 @@ def test_no_person_skin_against_an_estimated_background(plate: np.ndarray) -> No
     estimated = Background.from_plate(plate, estimated=True, method="masked median")
     extract = FeatureExtractor(estimated)
     assert extract.learn_skin(scene.frame, face_box(pose)) is None
+
+
+def test_a_face_too_cool_for_the_generic_rule_teaches_its_colour_whole(plate: np.ndarray) -> None:
+    # Bluish light: the generic rule finds no skin in the face or at the hands. Learnt from the
+    # whole face (start-up took it for its steadiness), the hands are skin again, even against
+    # an estimated background.
+    def cool(image: np.ndarray) -> np.ndarray:
+        return np.clip(image * np.array([1.25, 1.0, 0.7]), 0, 255).astype(np.uint8)
+
+    pose = Pose.a_pose()
+    scene = render_scene(pose, plate, seed=16)
+    frame, box = cool(scene.frame), face_box(pose)
+    x, y, w, h = box
+    assert (skin_mask(frame, CONFIG)[y : y + h, x : x + w] > 0).mean() < 0.05
+    extract = FeatureExtractor(Background.from_plate(cool(plate), estimated=True, method="masked median"))
+    assert extract(frame, scene.joints).right_hand is None
+    assert extract.learn_skin(frame, box) is None
+    assert extract.learn_skin(frame, box, whole_face=True) is not None
+    features = extract(frame, scene.joints)
+    for point, joint in ((features.right_hand, 5), (features.left_hand, 6)):
+        assert point is not None and np.hypot(*np.subtract(point.xy, scene.joints[joint])) < 10

@@ -485,6 +485,21 @@ def test_start_up_waits_while_the_face_moves() -> None:
     assert INITIALISING in statuses and TRACKED not in statuses
 
 
+@pytest.mark.parametrize("steady_face_frames", [8, 0])
+def test_a_face_too_cool_for_the_skin_rule_starts_tracking_once_steady(steady_face_frames: int) -> None:
+    # Bluish light leaves the face no generic skin; the cascade still finds it in one place.
+    def cool(image: np.ndarray) -> np.ndarray:
+        return np.clip(image * np.array([1.25, 1.0, 0.7]), 0, 255).astype(np.uint8)
+
+    folder = clip()
+    plate = cool(cv2.imread(str(folder / "background.png")))
+    config = TrackerConfig(steady_face_frames=steady_face_frames)
+    tracker = Tracker(camera_of(folder), plate, config, fps=15.0, fitter=TruthFitter(truth(folder)))
+    with VideoReader(folder / "video.mp4") as reader:
+        statuses = [tracker.update(cool(frame)).status for frame in reader]
+    assert (TRACKED in statuses) == (steady_face_frames > 0)
+
+
 def test_track_video_streams_one_result_per_frame(gt: dict) -> None:
     folder = clip()
     stream = upperpose.track_video(

@@ -135,12 +135,15 @@ class FeatureExtractor:
         self.person_skin: PersonSkin | None = None
         self._face_zone: tuple[tuple[float, float], float] | None = None
 
-    def learn_skin(self, frame: Frame, face: tuple[int, int, int, int]) -> PersonSkin | None:
+    def learn_skin(self, frame: Frame, face: tuple[int, int, int, int], whole_face: bool = False) -> PersonSkin | None:
         """Learns the person's skin colour from their face (`config.person_skin`, clean plates only).
 
         Args:
             frame: the `(H, W, 3)` uint8 BGR frame the face was found in.
             face: the face box `(x, y, w, h)`, pixels.
+            whole_face: the generic rule finds little skin in this face (it was taken for its
+                steadiness, `faces.SteadyFace`): learn from every pixel of the face's core,
+                with an estimated background too; that rule would find neither face nor hands.
 
         Returns:
             The model, or None: not learnt (turned off, an estimated background, or too few skin
@@ -150,7 +153,7 @@ class FeatureExtractor:
         cfg = self.config
         # Only against a clean plate: the room in the person's colour is known only from one
         # (an estimated plate may hold some of the person, or miss the room behind them).
-        if not cfg.person_skin or self.background.estimated:
+        if not cfg.person_skin or (self.background.estimated and not whole_face):
             return None
         relit = self._plate_for(check_frame(frame, "frame", self.background.size))[3]
         # The model reads the generic rule inside the face box only (the rule is per pixel).
@@ -158,7 +161,7 @@ class FeatureExtractor:
         box = (slice(max(y, 0), max(y + h, 0)), slice(max(x, 0), max(x + w, 0)))
         skin = np.zeros(relit.shape[:2], np.uint8)
         if skin[box].size:
-            skin[box] = skin_mask(np.ascontiguousarray(relit[box]), cfg)
+            skin[box] = 255 if whole_face else skin_mask(np.ascontiguousarray(relit[box]), cfg)
         self.person_skin = PersonSkin.from_face(
             relit, face, skin, cfg.person_skin_sigmas, cfg.person_skin_min_hue_spread,
             cfg.person_skin_min_saturation_spread,

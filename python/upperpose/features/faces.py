@@ -1,9 +1,11 @@
 """Frontal faces: OpenCV's Haar cascade (SPEC 6), and the skin test that drops false detections.
 
 Start-up looks for the person's face; background estimation asks whether a static lead-in
-shows anybody. Both accept a box only when enough of it is skin: the cascade fires on
-bookshelves and pictures, a real face is skin. Tracking checks now and then that the model's
-head is still on the face (`FaceDetector.near`), near the head and at the person's face size.
+shows anybody. Both accept a box when enough of it is skin: the cascade fires on
+bookshelves and pictures, a real face is skin. Start-up also accepts a face the cascade keeps
+finding in one place (`SteadyFace`): under cool or dim light a real face can fail the skin
+rule. Tracking checks now and then that the model's head is still on the face
+(`FaceDetector.near`), near the head and at the person's face size.
 """
 
 from __future__ import annotations
@@ -117,3 +119,39 @@ def choose_face(boxes: list[FaceBox], skin: npt.NDArray[np.uint8], min_skin: flo
         if share >= best_share:
             best, best_share = (x, y, w, h), share
     return best
+
+
+class SteadyFace:
+    """The largest face box, once the cascade has found it in one place for some frames in a row.
+
+    A real face stays put from frame to frame while the cascade's false detections (a cushion,
+    a patterned shirt) come and go, so steadiness can stand in for the skin test on a face that
+    the light leaves with little generic skin (cool or dim light, a bluish webcam).
+
+    Args:
+        frames: frames in a row the largest box must keep its place and size (>= 1).
+        tolerance: how far its centre and width may move between frames, in face widths.
+    """
+
+    def __init__(self, frames: int, tolerance: float = 0.25) -> None:
+        self.frames, self.tolerance = frames, tolerance
+        self.reset()
+
+    def reset(self) -> None:
+        """Forgets the faces seen so far."""
+        self._last: FaceBox | None = None
+        self._streak = 0
+
+    def update(self, boxes: list[FaceBox]) -> FaceBox | None:
+        """Takes one frame's face boxes; returns the largest once it has been steady long enough."""
+        box = max(boxes, key=lambda b: b[2], default=None)
+        last, limit = self._last, self.tolerance * (self._last[2] if self._last else 0)
+        same = (
+            box is not None
+            and last is not None
+            and float(np.hypot(*(face_centre(box) - face_centre(last)))) < limit
+            and abs(box[2] - last[2]) < limit
+        )
+        self._streak = self._streak + 1 if same else int(box is not None)
+        self._last = box
+        return box if box is not None and self._streak >= self.frames else None

@@ -18,6 +18,7 @@ import numpy as np
 import numpy.typing as npt
 
 from upperpose.features import FeatureConfig, FeatureExtractor, FrameFeatures
+from upperpose.features.faces import SteadyFace
 from upperpose.fit.acquire import agreement, global_fit, restart_seed
 from upperpose.fit.fitter import PARTS, FitLike, Fitter, FrameSearch
 from upperpose.fit.recovery import ARMS, HAND_JOINT
@@ -140,18 +141,24 @@ class PersonFinder:
         self._face_streak = 0
         self._face_widths: list[float] = []
         self._last_face: FaceBox | None = None
+        self._steady = SteadyFace(self.config.steady_face_frames) if self.config.steady_face_frames > 0 else None
 
     def see(
         self, frame: npt.NDArray[np.uint8], features: FrameFeatures, faces: list[FaceBox], extractor: FeatureExtractor
     ) -> Sighting:
         """Chooses the person's face, learns its skin colour and runs the A-pose check."""
         face = choose_face(faces, features.skin)
+        steady = self._steady.update(faces) if self._steady is not None else None
+        # A face too cool or dim for the skin rule, found in one place frame after frame, is
+        # the person's too; its own colour then says what skin is.
+        whole_face = face is None and steady is not None
+        face = steady if whole_face else face
         # The person's own skin colour, from each face until tracking starts: start-up then
         # measures the same skin blobs the tracking will see.
         if face is None:
             extractor.forget_skin()
         else:
-            extractor.learn_skin(frame, face)
+            extractor.learn_skin(frame, face, whole_face=whole_face)
         passed = stable = False
         points = np.full((3, 2), np.nan)
         if face is not None:

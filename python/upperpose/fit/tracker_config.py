@@ -98,6 +98,10 @@ class TrackerConfig:
             frontal faces of the person's size are sought around the model's head; one farther
             than `face_drift_share` face widths from it on two checks in a row moves the root
             under it (the head had followed a hand away). `face_check_frames` 0 turns this off.
+        steady_face_frames: at start-up, a face the cascade finds in one place and size this
+            many frames in a row is the person's even when the generic skin rule finds too
+            little skin in it (cool or dim light); their skin colour is then learnt from the
+            whole face, with or without a clean plate. 0 turns this off.
     """
 
     particles: int | None = None
@@ -138,6 +142,7 @@ class TrackerConfig:
     reach_candidates: int = 6
     untangle_hands: bool = True
     face_check_frames: int = 5
+    steady_face_frames: int = 8
     face_drift_share: float = 0.5
     search_options: dict[str, Any] = field(default_factory=dict)
 
@@ -170,6 +175,7 @@ class TrackerConfig:
             "reach_candidates",
             "any_pose_frames",
             "face_check_frames",
+            "steady_face_frames",
         ):
             whole(name, 0, getattr(self, name))
         whole("acquire_restarts", 0, self.acquire_restarts)
