@@ -120,7 +120,7 @@ class FeatureConfig:
     """HSV rule: largest saturation of a skin pixel (saturated reds are clothes, not skin)."""
 
     person_skin: bool = True
-    """I_skin0 with a clean plate: once the tracker has found the person's face, skin is the
+    """I_skin0: once the tracker has found the person's face, skin is the
     face's hue and saturation (within `person_skin_sigmas` spreads, widened for dark and grey
     pixels) instead of the generic rule, except around the head (features/person_skin.py). The
     generic rules take in khaki, beige and wood as well as every skin tone, and lose dark skin

@@ -136,24 +136,23 @@ class FeatureExtractor:
         self._face_zone: tuple[tuple[float, float], float] | None = None
 
     def learn_skin(self, frame: Frame, face: tuple[int, int, int, int], whole_face: bool = False) -> PersonSkin | None:
-        """Learns the person's skin colour from their face (`config.person_skin`, clean plates only).
+        """Learns the person's skin colour from their face (`config.person_skin`).
 
         Args:
             frame: the `(H, W, 3)` uint8 BGR frame the face was found in.
             face: the face box `(x, y, w, h)`, pixels.
             whole_face: the generic rule finds little skin in this face (it was taken for its
-                steadiness, `faces.SteadyFace`): learn from every pixel of the face's core,
-                with an estimated background too; that rule would find neither face nor hands.
+                steadiness, `faces.SteadyFace`): learn from every pixel of the face's core.
 
         Returns:
-            The model, or None: not learnt (turned off, an estimated background, or too few skin
-            pixels in the face). From the next frame on, I_skin0 is that colour outside the
-            head's zone, until `forget_skin` or the next `learn_skin`.
+            The model, or None: not learnt (turned off, or too few skin pixels in the face).
+            From the next frame on, I_skin0 is that colour outside the head's zone, until
+            `forget_skin` or the next `learn_skin`.
         """
         cfg = self.config
-        # Only against a clean plate: the room in the person's colour is known only from one
-        # (an estimated plate may hold some of the person, or miss the room behind them).
-        if not cfg.person_skin or (self.background.estimated and not whole_face):
+        # With an estimated plate too: the estimate may hold some of the person or miss the room
+        # behind them, but the generic rule it would fall back on is worse (docs/features.md).
+        if not cfg.person_skin:
             return None
         relit = self._plate_for(check_frame(frame, "frame", self.background.size))[3]
         # The model reads the generic rule inside the face box only (the rule is per pixel).

@@ -101,7 +101,7 @@ class TrackerConfig:
         steady_face_frames: at start-up, a face the cascade finds in one place and size this
             many frames in a row is the person's even when the generic skin rule finds too
             little skin in it (cool or dim light); their skin colour is then learnt from the
-            whole face, with or without a clean plate. 0 turns this off.
+            whole face. 0 turns this off.
     """
 
     particles: int | None = None
