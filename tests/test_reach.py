@@ -75,6 +75,31 @@ def test_candidates_put_the_hand_near_the_target(arm: str) -> None:
     assert REACH.candidates(arm, np.zeros(13), root, CAMERA, (5000.0, 5000.0), 6, 30.0, 10.0) == []
 
 
+@pytest.mark.parametrize("arm", ["right_arm", "left_arm"])
+def test_the_candidate_keeping_the_elbow_comes_first(arm: str) -> None:
+    # Untangling asks for the pose that keeps the arm's elbow where it is and moves the hand:
+    # it comes first, its hand within the tolerance, and no candidate's elbow lies nearer.
+    rng = np.random.default_rng(9 if arm == "right_arm" else 10)
+    root = np.array([0.05, 0.1, 2.2])
+    elbow, hand = ARM_JOINTS[arm]
+    for _ in range(10):
+        pose = np.zeros(13)
+        pose[ARM_ANGLES[arm]] = rng.uniform([-1.0, -0.3, 0.0, 0.0], [1.0, 2.5, 2.5, 2.2])
+        points = upperpose.project(CAMERA, model_points(pose, root, BODY))
+        start = pose.copy()
+        start[ARM_ANGLES[arm]] = 0.0
+        kept = REACH.candidates(arm, start, root, CAMERA, points[hand], 6, 30.0, 10.0, near_elbow=points[elbow])
+        plain = REACH.candidates(arm, start, root, CAMERA, points[hand], 6, 30.0, 10.0)
+        assert 1 <= len(kept) <= 6
+
+        def at(candidate: np.ndarray, joint: int) -> np.ndarray:
+            return upperpose.project(CAMERA, model_points(candidate, root, BODY))[joint]
+
+        first = float(np.hypot(*(at(kept[0], elbow) - points[elbow])))
+        assert np.hypot(*(at(kept[0], hand) - points[hand])) <= 30.0
+        assert all(first <= np.hypot(*(at(c, elbow) - points[elbow])) + 1e-9 for c in kept + plain)
+
+
 def _features(shapes, points) -> SimpleNamespace:
     skin = np.zeros((480, 640), np.uint8)
     for draw in shapes:

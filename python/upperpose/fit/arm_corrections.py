@@ -16,7 +16,7 @@ import numpy.typing as npt
 
 from upperpose.features import FrameFeatures
 from upperpose.fit.fitter import FitLike, FrameSearch
-from upperpose.fit.reach import ArmReach, hand_target, unexplained
+from upperpose.fit.reach import ARM_JOINTS, ArmReach, hand_target, unexplained
 from upperpose.fit.recovery import ARMS, HAND_JOINT, HAND_POINT
 from upperpose.fit.tracker_config import TrackerConfig
 from upperpose.model import BodyModel, Camera, model_points, project
@@ -45,7 +45,7 @@ class ArmCorrections:
     """Corrects the arms of each frame's fit; keeps the person's reach table between frames.
 
     Args:
-        config: the tracker's settings (`fair_recovery`, `reach_*`, `untangle_hands`,
+        config: the tracker's settings (`fair_recovery`, `reach_*`, `untangle_*`,
             `recovery_window_scale`).
     """
 
@@ -161,7 +161,11 @@ class ArmCorrections:
         shoulder_px = max(float(np.hypot(*(points[1] - points[2]))), 10.0)
         candidate = pose.copy()
         for arm, point in (("right_arm", left), ("left_arm", right)):
-            seed = self._reach_seed(swapped, candidate, root, arm, point.xy, shoulder_px, search)
+            # The labels, not the arms, were wrong: the elbows are where the fit put them, so
+            # the pose that keeps this arm's elbow and moves only its hand is tried too.
+            seed = self._reach_seed(
+                swapped, candidate, root, arm, point.xy, shoulder_px, search, self.config.untangle_refine
+            )
             if seed is None:
                 return fit, features, ()
             candidate = seed
@@ -181,13 +185,21 @@ class ArmCorrections:
         target: npt.ArrayLike,
         shoulder_px: float,
         search: FrameSearch,
+        refine: int = 0,
     ) -> FloatArray | None:
-        """`pose` with `arm` moved to the cheapest tabulated pose that puts its hand near `target`.
+        """`pose` with `arm` moved to the cheapest pose found from tabulated poses with the hand near `target`.
 
-        None when no tabulated pose reaches the target. The table is made on first use (per body).
+        The candidates are scored as they are; with `refine` 0 the cheapest is returned. Else
+        the `refine` cheapest, and the candidate whose elbow projects nearest `pose`'s own
+        elbow (whatever its rank), are each searched in windows widened by
+        `recovery_window_scale` and scored again, and the cheapest result is returned. None
+        when no tabulated pose reaches the target. The table is made on first use (per body).
         """
         if self._reach is None:
             self._reach = ArmReach(search.body)
+        elbow = None
+        if refine > 0:
+            elbow = project(search.camera, model_points(pose, root, search.body))[ARM_JOINTS[arm][0]]
         seeds = self._reach.candidates(
             arm,
             pose,
@@ -197,11 +209,23 @@ class ArmCorrections:
             self.config.reach_candidates,
             tolerance_px=0.5 * shoulder_px,
             elbow_spread_px=0.15 * shoulder_px,
+            near_elbow=elbow,
         )
         if not seeds:
             return None
         costs = [search.fair_cost(features, seed, root) for seed in seeds]
-        return seeds[int(np.argmin(costs))]
+        if refine <= 0:
+            return seeds[int(np.argmin(costs))]
+        chosen = list(np.argsort(costs, kind="stable")[:refine])
+        if 0 not in chosen:  # `candidates` puts the nearest elbow first
+            chosen.append(0)
+        best, best_cost = None, np.inf
+        for k in chosen:
+            found = search.run(features, seeds[k], root, "trajectory", (arm,), self.config.recovery_window_scale)
+            cost = search.fair_cost(features, np.asarray(found.pose), root)
+            if cost < best_cost:
+                best, best_cost = np.array(found.pose, dtype=np.float64), cost
+        return best if best is not None else seeds[int(np.argmin(costs))]
 
 
 __all__ = ["ArmCorrections", "nearer_hand_point"]

@@ -87,12 +87,16 @@ class ArmReach:
         count: int,
         tolerance_px: float,
         elbow_spread_px: float,
+        near_elbow: npt.ArrayLike | None = None,
     ) -> list[FloatArray]:
         """Up to `count` full poses: `pose` with `arm` moved so its hand lies near `target`.
 
         The grid poses whose hand projects within `tolerance_px` of `target` (pixels), nearest
         first, each kept only when its elbow projects at least `elbow_spread_px` from the
-        elbows already kept. The other angles of `pose` (torso, other arm, forearm twist) stay.
+        elbows already kept. With `near_elbow` (pixels), the first pose returned is the one of
+        those whose elbow projects nearest it (the elbow kept where it is, the hand moved),
+        whatever its hand's rank. The other angles of `pose` (torso, other arm, forearm
+        twist) stay.
         """
         base = np.asarray(pose, dtype=np.float64)
         origin = np.asarray(root, dtype=np.float64)
@@ -106,11 +110,16 @@ class ArmReach:
             return []
         elbows = project(camera, origin + self.elbows[arm][order] @ rotation.T)
         kept: list[int] = []
+        if near_elbow is not None and count > 0:
+            to_elbow = np.hypot(*(elbows - np.asarray(near_elbow, dtype=np.float64)).T)
+            to_elbow[~np.isfinite(to_elbow)] = np.inf
+            if np.isfinite(to_elbow).any():
+                kept.append(int(np.argmin(to_elbow)))
         for i in range(order.size):
-            if all(np.hypot(*(elbows[i] - elbows[j])) >= elbow_spread_px for j in kept):
+            if len(kept) == count:
+                break
+            if i not in kept and all(np.hypot(*(elbows[i] - elbows[j])) >= elbow_spread_px for j in kept):
                 kept.append(i)
-                if len(kept) == count:
-                    break
         out = []
         for i in kept:
             candidate = base.copy()

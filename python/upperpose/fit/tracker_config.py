@@ -94,6 +94,12 @@ class TrackerConfig:
         untangle_hands: when both hands hold skin blobs of their own and the fitted hands lie
             crossed in the image, the other labelling of the two blobs is also tried (both arms
             sought from the swapped points as above); the lower cost wins. Needs the reach.
+        untangle_refine: untangling seeds each arm from the `untangle_refine` cheapest of those
+            arm poses, and from the one whose elbow lies nearest the fit's (the labels were
+            wrong, not the elbows), each first searched in widened windows: the cheapest result
+            wins. The table's grid is coarse: unrefined, a straight arm raised towards the
+            camera beat the bent arm that, refined, costs less (a clap's elbows 50-70 px high
+            for the rest of the clip). 0 takes the cheapest pose unrefined.
         face_check_frames, face_drift_share: every `face_check_frames` frames while tracking,
             frontal faces of the person's size are sought around the model's head; one farther
             than `face_drift_share` face widths from it on two checks in a row moves the root
@@ -141,6 +147,7 @@ class TrackerConfig:
     reach_share: float = 0.5
     reach_candidates: int = 6
     untangle_hands: bool = True
+    untangle_refine: int = 3
     face_check_frames: int = 5
     steady_face_frames: int = 8
     face_drift_share: float = 0.5
@@ -173,6 +180,7 @@ class TrackerConfig:
             "lost_frames",
             "doubt_frames",
             "reach_candidates",
+            "untangle_refine",
             "any_pose_frames",
             "face_check_frames",
             "steady_face_frames",
