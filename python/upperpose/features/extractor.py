@@ -155,7 +155,8 @@ class FeatureExtractor:
         if not cfg.person_skin:
             return None
         relit = self._plate_for(check_frame(frame, "frame", self.background.size))[3]
-        # The model reads the generic rule inside the face box only (the rule is per pixel).
+        # The model reads the generic rule inside the face box only (the rule is per pixel), or
+        # every pixel there for a face the rule fails on.
         x, y, w, h = face
         box = (slice(max(y, 0), max(y + h, 0)), slice(max(x, 0), max(x + w, 0)))
         skin = np.zeros(relit.shape[:2], np.uint8)

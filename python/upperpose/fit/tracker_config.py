@@ -106,8 +106,8 @@ class TrackerConfig:
             under it (the head had followed a hand away). `face_check_frames` 0 turns this off.
         steady_face_frames: at start-up, a face the cascade finds in one place and size this
             many frames in a row is the person's even when the generic skin rule finds too
-            little skin in it (cool or dim light); their skin colour is then learnt from the
-            whole face. 0 turns this off.
+            little skin in it (cool or dim light); the person's skin colour is then learnt
+            from the whole face. 0 turns this off.
     """
 
     particles: int | None = None
