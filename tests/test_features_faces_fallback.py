@@ -61,9 +61,15 @@ def test_a_steady_face_counts_after_its_frames_and_a_jump_or_a_gap_starts_again(
     face, nudged, jumped = (100, 80, 40, 40), (104, 82, 42, 42), (130, 80, 40, 40)
     assert [steady.update([face]), steady.update([nudged])] == [None, None]
     assert steady.update([face, (10, 10, 20, 20)]) == face  # the largest box, third frame in a row
-    assert steady.update([jumped]) is None  # moved 0.75 of its width: a new streak
+    assert steady.update([jumped]) is None  # moved 0.75 of its width: a new run
     assert [steady.update([jumped]), steady.update([jumped])] == [None, jumped]
     assert steady.update([]) is None and steady.update([jumped]) is None  # a frame without a face
     steady.reset()
     assert [steady.update([face]) for _ in range(3)] == [None, None, face]
     assert SteadyFace(1).update([face]) == face
+
+
+def test_a_face_walking_in_is_never_steady() -> None:
+    # A fifth of its width a frame: each step is small, the run drifts out of place.
+    steady = SteadyFace(3)
+    assert all(steady.update([(100 + 8 * k, 80, 40, 40)]) is None for k in range(20))

@@ -110,14 +110,20 @@ class FaceDetector:
         return cast(list[FaceBox], [tuple(int(round(v * s)) for v in box) for box in (found if len(found) else [])])
 
 
+def box_share(box: FaceBox, mask: npt.NDArray[np.uint8]) -> float:
+    """The share of a box's pixels (clipped to the image) that are set in `mask`."""
+    x, y, w, h = box
+    patch = mask[max(y, 0) : y + h, max(x, 0) : x + w]
+    return float(np.count_nonzero(patch)) / max(patch.size, 1)
+
+
 def choose_face(boxes: list[FaceBox], skin: npt.NDArray[np.uint8], min_skin: float = 0.25) -> FaceBox | None:
     """The face box with the most skin inside (a real face is skin; a false detection rarely is)."""
     best, best_share = None, min_skin
-    for x, y, w, h in boxes:
-        patch = skin[max(y, 0) : y + h, max(x, 0) : x + w]
-        share = float(np.count_nonzero(patch)) / max(patch.size, 1)
+    for box in boxes:
+        share = box_share(box, skin)
         if share >= best_share:
-            best, best_share = (x, y, w, h), share
+            best, best_share = box, share
     return best
 
 
@@ -130,7 +136,9 @@ class SteadyFace:
 
     Args:
         frames: frames in a row the largest box must keep its place and size (>= 1).
-        tolerance: how far its centre and width may move between frames, in face widths.
+        tolerance: how far its centre and width may move from where the run of frames began, in
+            face widths (measured from the run's first box, so a person walking in, a fifth of
+            a face width a frame, is not steady).
     """
 
     def __init__(self, frames: int, tolerance: float = 0.25) -> None:
@@ -139,19 +147,21 @@ class SteadyFace:
 
     def reset(self) -> None:
         """Forgets the faces seen so far."""
-        self._last: FaceBox | None = None
+        self._first: FaceBox | None = None
         self._streak = 0
 
     def update(self, boxes: list[FaceBox]) -> FaceBox | None:
         """Takes one frame's face boxes; returns the largest once it has been steady long enough."""
         box = max(boxes, key=lambda b: b[2], default=None)
-        last, limit = self._last, self.tolerance * (self._last[2] if self._last else 0)
+        first = self._first
         same = (
             box is not None
-            and last is not None
-            and float(np.hypot(*(face_centre(box) - face_centre(last)))) < limit
-            and abs(box[2] - last[2]) < limit
+            and first is not None
+            and float(np.hypot(*(face_centre(box) - face_centre(first)))) < self.tolerance * first[2]
+            and abs(box[2] - first[2]) < self.tolerance * first[2]
         )
-        self._streak = self._streak + 1 if same else int(box is not None)
-        self._last = box
+        if same:
+            self._streak += 1
+        else:
+            self._first, self._streak = box, int(box is not None)
         return box if box is not None and self._streak >= self.frames else None

@@ -18,7 +18,7 @@ import numpy as np
 import numpy.typing as npt
 
 from upperpose.features import FeatureConfig, FeatureExtractor, FrameFeatures
-from upperpose.features.faces import SteadyFace
+from upperpose.features.faces import SteadyFace, box_share
 from upperpose.fit.acquire import agreement, global_fit, restart_seed
 from upperpose.fit.fitter import PARTS, FitLike, Fitter, FrameSearch
 from upperpose.fit.recovery import ARMS, HAND_JOINT
@@ -148,7 +148,9 @@ class PersonFinder:
     ) -> Sighting:
         """Chooses the person's face, learns its skin colour and runs the A-pose check."""
         face = choose_face(faces, features.skin)
-        steady = self._steady.update(faces) if self._steady is not None else None
+        # Only boxes on the person: a face-like picture in the room is steady too.
+        on_person = [box for box in faces if box_share(box, features.sil) >= 0.5]
+        steady = self._steady.update(on_person) if self._steady is not None else None
         # A face too cool or dim for the skin rule, found in one place frame after frame, is
         # the person's too; its own colour then says what skin is.
         whole_face = face is None and steady is not None
