@@ -148,9 +148,10 @@ class PersonFinder:
     ) -> Sighting:
         """Chooses the person's face, learns its skin colour and runs the A-pose check."""
         face = choose_face(faces, features.skin)
-        # Only boxes on the person: a face-like picture in the room is steady too.
-        on_person = [box for box in faces if box_share(box, features.sil) >= 0.5]
-        steady = self._steady.update(on_person) if self._steady is not None else None
+        steady = None
+        if self._steady is not None:
+            # Only boxes on the person: a face-like picture in the room is steady too.
+            steady = self._steady.update([box for box in faces if box_share(box, features.sil) >= 0.5])
         # A face too cool or dim for the skin rule, found in one place frame after frame, is
         # the person's too; its own colour then says what skin is.
         whole_face = face is None and steady is not None

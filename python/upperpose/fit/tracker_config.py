@@ -149,8 +149,8 @@ class TrackerConfig:
     untangle_hands: bool = True
     untangle_refine: int = 3
     face_check_frames: int = 5
-    steady_face_frames: int = 8
     face_drift_share: float = 0.5
+    steady_face_frames: int = 8
     search_options: dict[str, Any] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
