@@ -19,7 +19,7 @@ from upperpose.features.points import SkinPoint
 from upperpose.fit import INITIALISING, LOST, NO_PERSON, PARTS, TRACKED, StateMachine, StaticFit, Tracker, TrackerConfig
 from upperpose.fit.reach import ArmReach
 from upperpose.fit.recovery import DoubtDetector, HandFollower, LostDetector, unexplained_by_side
-from upperpose.fit.root import RootEstimator
+from upperpose.fit.root import SETTLED, RootEstimator
 from upperpose.fit.startup import (
     HAND_REACH_FACES,
     StartupFit,
@@ -121,8 +121,8 @@ def _root_estimator() -> tuple[RootEstimator, upperpose.Camera, upperpose.BodyMo
     body = upperpose.BodyModel()
     pose = upperpose.Pose().angles
     root = root_from_head(camera, [320.0, 150.0], 2.0, pose, body)
-    # Head 50 px wide at start-up; the head blob's width is that of the face box.
-    return RootEstimator(camera, body, root, 50.0, head_size_px=50.0), camera, body, pose
+    # Head 50 px wide at start-up; the head blob's width is that of the face box, its height 60 px.
+    return RootEstimator(camera, body, root, 50.0, 60.0, head_size_px=50.0), camera, body, pose
 
 
 def _head_px(estimator: RootEstimator, camera: upperpose.Camera, body: upperpose.BodyModel, pose: np.ndarray) -> float:
@@ -165,17 +165,61 @@ def test_root_ignores_a_scrap_of_skin_taken_for_the_head() -> None:
     assert head_y == pytest.approx(150.0, abs=0.5)
 
 
+def _walk(estimator: RootEstimator, pose: np.ndarray, sizes: list[tuple[float, float]]) -> list[float]:
+    """Feeds head blobs of the given (width, height) at one place; the depth after each."""
+    fitted, depths = None, []
+    for width, height in sizes:
+        fitted = estimator.update(_HeadOnly((320.0, 150.0), (round(width), round(height))), pose, fitted)
+        depths.append(estimator.depth)
+    return depths
+
+
 def test_a_head_blob_widened_by_hair_still_measures_depth() -> None:
     # Blond hair passes the skin rule: the head's blob is 1.3 face widths wide at start-up.
     camera = upperpose.Camera.for_image(640, 480)
     body, pose = upperpose.BodyModel(), upperpose.Pose().angles
     root = root_from_head(camera, [320.0, 150.0], 2.0, pose, body)
-    estimator = RootEstimator(camera, body, root, 65.0, head_size_px=50.0)
-    fitted = None
-    for k in range(60):  # steps from 2.0 m to 1.6 m: the blob grows from 65 to 81 px
-        width = 65.0 * 2.0 / (2.0 - 0.4 * min(k, 30) / 30)
-        fitted = estimator.update(_HeadOnly((320.0, 150.0), (round(width), 70)), pose, fitted)
-    assert estimator.depth == pytest.approx(1.6, abs=0.03)
+    estimator = RootEstimator(camera, body, root, 65.0, 70.0, head_size_px=50.0)
+    # Steps from 2.0 m to 1.5 m over a second: the blob grows from 65 x 70 to 87 x 93 px.
+    scales = [2.0 / (2.0 - 0.5 * min(k, 30) / 30) for k in range(90)]
+    _walk(estimator, pose, [(65.0 * f, 70.0 * f) for f in scales])
+    assert estimator.depth == pytest.approx(1.5, rel=SETTLED + 0.01)
+
+
+@pytest.mark.parametrize("wobble", [0.0, 0.1, 0.18])
+def test_depth_holds_while_the_head_blob_wobbles(wobble: float) -> None:
+    # A person standing still: the depth the blob's size gives swings by up to `wobble` either way.
+    estimator, _, _, pose = _root_estimator()
+    swing = [1.0 / (1.0 + wobble * np.sin(2 * np.pi * k / 40)) for k in range(120)]
+    depths = _walk(estimator, pose, [(50.0 * f, 60.0 * f) for f in swing])
+    assert depths == [2.0] * 120
+
+
+def test_depth_holds_while_the_head_turns() -> None:
+    # A head turned to profile: its blob a third wider and a third shorter, the person in place.
+    estimator, _, _, pose = _root_estimator()
+    turn = [min(k, 10) / 10 for k in range(60)]
+    depths = _walk(estimator, pose, [(50.0 * (1 + t / 3), 60.0 * (1 - t / 3)) for t in turn])
+    assert depths == [2.0] * 60
+
+
+def test_depth_follows_a_quick_step_closer_through_noise() -> None:
+    # From 2.0 m to 1.5 m in three frames, the blob's size noisy by up to 6 % either way.
+    estimator, _, _, pose = _root_estimator()
+    rng = np.random.default_rng(3)
+    scales = [2.0 / (2.0 - 0.5 * min(k, 3) / 3) for k in range(90)]
+    noisy = [(50.0 * f * rng.uniform(0.94, 1.06), 60.0 * f * rng.uniform(0.94, 1.06)) for f in scales]
+    depths = _walk(estimator, pose, noisy)
+    assert depths[2] == 2.0  # not within a frame or two: the median of five must agree first
+    assert depths[-1] == pytest.approx(1.5, rel=SETTLED + 0.03)
+
+
+def test_depth_follows_a_step_back_then_holds() -> None:
+    estimator, _, _, pose = _root_estimator()
+    scales = [2.0 / (2.0 + 0.6 * min(k, 15) / 15) for k in range(150)]
+    depths = _walk(estimator, pose, [(50.0 * f, 60.0 * f) for f in scales])
+    assert depths[-1] == pytest.approx(2.6, rel=SETTLED + 0.01)
+    assert len(set(depths[-20:])) == 1  # settled: no creeping after
 
 
 def test_lost_detector_counts_misses_and_pauses_without_evidence() -> None:

@@ -85,20 +85,20 @@ class Attempt:
 def starting_root(camera: Camera, start: Start) -> RootEstimator:
     """The root estimator of a new person: the start-up fit's root and the head's skin blob.
 
-    The blob's width and its offset from the face centre count only when the blob holds the
+    The blob's size and its offset from the face centre count only when the blob holds the
     face's centre and is at most 1.6 face widths wide.
     """
     face, features = start.face, start.features
     centre = face_centre(face)
-    head_blob_width, bias = None, np.zeros(2)
+    head_blob_width, head_blob_height, bias = None, None, np.zeros(2)
     head = features.head
     if head is not None and not head.merged:
         blob = features.blobs[head.blob]
         if blob.distance_to(centre) == 0.0 and blob.bbox[2] <= 1.6 * face[2]:
-            head_blob_width = float(blob.bbox[2])
+            head_blob_width, head_blob_height = float(blob.bbox[2]), float(blob.bbox[3])
             bias = np.asarray(head.xy) - centre
     body, root = start.chosen.body, start.chosen.root
-    return RootEstimator(camera, body, root, head_blob_width, bias, head_size_px=float(face[2]))
+    return RootEstimator(camera, body, root, head_blob_width, head_blob_height, bias, head_size_px=float(face[2]))
 
 
 class PersonFinder:

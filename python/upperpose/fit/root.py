@@ -1,19 +1,24 @@
 """The root's 3D position per frame (SPEC 2), in place of the thesis' pixel scale matrix (§3.4.7).
 
-Depth: the width of the head's skin blob, compared with its width at start-up when the depth was
-known from the face box: Z = Z0 * w0 / w. A subject who steps closer therefore changes depth,
-never body size. Measurements are rejected when the head blob is merged with a hand or its
-width jumps by more than `max_jump`; accepted ones pass a median of the last five and an
-exponential filter. X and Y: the head point (only when its blob is about a head's size: a
-hand on the head that the matching did not see would drag it, and a scrap of skin taken for the
-head while a hand covers the face would drop it) back-projected at that depth, minus the head's
-offset from the root at the predicted pose, blended with last frame's fitted root (whose x, y
-the torso search refines). A measurement farther from last frame's root (moved on at its
-velocity) than a head moves in one frame is held back, and does not move the depth either,
-until a few in a row agree with each other (then the person did move). Frames without a usable
-head point blend with the last measurement instead, so that the search cannot walk the body away
-frame after frame. When a frontal face is found away from the model's head (`move_to_face`:
-the head point followed a hand down the chest), the root is put back under the face at once.
+Depth: start-up's, held until the head's skin blob says the person stepped closer or back. Each
+frame the blob's width and its height, compared with start-up's, each give a depth
+(Z = Z0 * w0 / w); the held depth moves only when the medians of the last five of both lie more than
+`depth_deadband` from it on the same side, and then follows them until it is within `SETTLED` of
+them. The blob's size wobbles by far more than a person's depth changes while they stand (a head
+turning widens it and shortens it; hair, a hand near the face, lighting), so following it frame
+by frame is further from the truth than holding. A subject who steps closer therefore changes
+depth, never body size. Measurements are rejected when the head blob is merged with a hand or
+its width changes by more than `max_jump` from last frame's. X and Y: the head point (only when
+its blob is about a head's size: a hand on the head that the matching did not see would drag it,
+and a scrap of skin taken for the head while a hand covers the face would drop it)
+back-projected at that depth, minus the head's offset from the root at the predicted pose,
+blended with last frame's fitted root (whose x, y the torso search refines). A measurement
+farther from last frame's root (moved on at its velocity) than a head moves in one frame is held
+back, and does not move the depth either, until a few in a row agree with each other (then the
+person did move). Frames without a usable head point blend with the last measurement instead, so
+that the search cannot walk the body away frame after frame. When a frontal face is found away
+from the model's head (`move_to_face`: the head point followed a hand down the chest), the root
+is put back under the face at once.
 """
 
 from __future__ import annotations
@@ -28,6 +33,9 @@ from upperpose.features import FrameFeatures
 from upperpose.fit.startup import pixels_per_metre, root_from_head
 from upperpose.model import BodyModel, Camera
 
+# Relative distance between the held depth and the measured one at which following stops.
+SETTLED = 0.03
+
 
 class RootEstimator:
     """Estimates the root position frame by frame.
@@ -37,12 +45,15 @@ class RootEstimator:
         body: the person's body model.
         root: the root at start-up (metres, camera frame).
         head_blob_width: width in pixels of the head's skin blob at start-up (None: depth stays).
+        head_blob_height: its height in pixels (None: depth stays).
         head_bias: the head point's offset in pixels from the true head centre at start-up.
         head_size_px: the head's width in pixels at start-up (the face box), to reject head
             blobs that hold more than a head; `head_blob_width` when None.
-        depth_gain: weight of a new depth measurement (exponential filter).
+        depth_gain: weight of a new depth measurement while the depth follows them.
+        depth_deadband: relative distance of the measured depth (both the width's and the
+            height's) from the held one beyond which the depth follows them.
         xy_gain: weight of the head measurement against last frame's fitted root.
-        max_jump: largest accepted relative change of the head blob's width in one frame.
+        max_jump: largest accepted relative change of the head blob's width from last frame's.
         min_head_share: smallest head blob accepted, as a share of the expected head size in
             width and in height.
         xy_gate: largest accepted distance of the measured root from the one expected at last
@@ -58,9 +69,11 @@ class RootEstimator:
         body: BodyModel,
         root: npt.ArrayLike,
         head_blob_width: float | None,
+        head_blob_height: float | None = None,
         head_bias: npt.ArrayLike = (0.0, 0.0),
         head_size_px: float | None = None,
         depth_gain: float = 0.15,
+        depth_deadband: float = 0.2,
         xy_gain: float = 0.5,
         max_jump: float = 0.25,
         min_head_share: float = 0.5,
@@ -71,9 +84,11 @@ class RootEstimator:
         self.root = np.array(root, dtype=np.float64)
         self._z0 = float(self.root[2])
         self._w0 = head_blob_width
+        self._h0 = head_blob_height
         self._size0 = head_blob_width if head_size_px is None else head_size_px
         self._bias = np.asarray(head_bias, dtype=np.float64)
         self._depth_gain, self._xy_gain, self._max_jump = depth_gain, xy_gain, max_jump
+        self._deadband = depth_deadband
         self._min_head_share, self._confirm_jumps = min_head_share, confirm_jumps
         # The gate in metres: the head's width at start-up times `xy_gate`.
         self._gate_m = xy_gate * (self._size0 or 0.0) / pixels_per_metre(camera, self._z0)
@@ -83,7 +98,11 @@ class RootEstimator:
         self._previous_fit: npt.NDArray[np.float64] | None = None  # last frame's fitted X, Y
         self._expected = self.root[:2].copy()  # this frame's X, Y at last frame's velocity
         self._velocity_known = False
-        self._recent: deque[float] = deque(maxlen=5)
+        # Depths from the head blob's width and from its height, the last five accepted.
+        self._by_width: deque[float] = deque(maxlen=5)
+        self._by_height: deque[float] = deque(maxlen=5)
+        self._following = False  # the held depth is moving towards the measured one
+        self._last_width: float | None = None  # the head blob's width last frame
         self._anchor = self.root[:2].copy()  # the last root X, Y measured from the head
 
     @property
@@ -123,8 +142,11 @@ class RootEstimator:
         # Hair that passes the skin rule widens the head's blob past the face: the widest
         # allowed is the blob's own width at start-up, if wider than the face.
         widest = self._at_depth(max(self._size0, self._w0 or 0.0))
-        small = self._min_head_share * face
-        return small <= width <= (1.0 + self._max_jump) * widest and small <= height <= 2.2 * face
+        # The held depth may be up to the deadband off before it moves.
+        slack = 1.0 + self._deadband
+        small = self._min_head_share * face / slack
+        largest = (1.0 + self._max_jump) * widest * slack
+        return small <= width <= largest and small <= height <= 2.2 * face * slack
 
     def _at_depth(self, start_px: float) -> float:
         """A head measure in pixels at the current depth, from its pixels at start-up."""
@@ -145,21 +167,25 @@ class RootEstimator:
         near = float(np.hypot(*(measured - self._expected))) <= self._gate_m
         return near or len(self._run) >= self._confirm_jumps
 
-    def _measure_depth(self, features: FrameFeatures) -> float | None:
-        head = features.head
-        if self._w0 is None or head is None:
-            return None
-        width = float(features.blobs[head.blob].bbox[2])
-        expected = self._w0 * self._z0 / self.depth
-        if not abs(width / expected - 1.0) <= self._max_jump:
-            return None
-        return self._z0 * self._w0 / width
-
     def _update_depth(self, features: FrameFeatures) -> None:
-        z = self._measure_depth(features)
-        if z is not None:
-            self._recent.append(z)
-            self.root[2] += self._depth_gain * (float(np.median(self._recent)) - self.root[2])
+        head = features.head
+        if self._w0 is None or self._h0 is None or head is None:
+            return
+        _, _, width, height = features.blobs[head.blob].bbox
+        last, self._last_width = self._last_width, float(width)
+        if last is not None and not abs(width / last - 1.0) <= self._max_jump:
+            return
+        self._by_width.append(self._z0 * self._w0 / width)
+        self._by_height.append(self._z0 * self._h0 / height)
+        by_width = float(np.median(self._by_width)) / self.depth - 1.0
+        by_height = float(np.median(self._by_height)) / self.depth - 1.0
+        if not self._following:
+            # Both beyond the deadband, on the same side: the person stepped closer or back.
+            self._following = min(abs(by_width), abs(by_height)) > self._deadband and by_width * by_height > 0
+        if self._following:
+            measured = self.depth * float(np.sqrt((1.0 + by_width) * (1.0 + by_height)))
+            self.root[2] += self._depth_gain * (measured - self.root[2])
+            self._following = abs(measured / self.depth - 1.0) > SETTLED
 
     def update(
         self, features: FrameFeatures, pose: npt.ArrayLike, fitted_root: npt.ArrayLike | None = None
