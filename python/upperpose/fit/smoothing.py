@@ -28,7 +28,7 @@ from upperpose.result import LOST, TRACKED, TrackResult
 
 FloatArray = npt.NDArray[np.float64]
 T = TypeVar("T")
-DEFAULT_LAG = 7
+DEFAULT_LAG = 6
 MAX_LAG = 30
 
 
