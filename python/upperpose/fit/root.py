@@ -2,17 +2,17 @@
 
 Depth: start-up's, held until the head's skin blob says the person stepped closer or back. Each
 frame the blob's width and its height, compared with start-up's, each give a depth
-(Z = Z0 * w0 / w); the held depth moves only when the medians of the last five of both lie more than
-`depth_deadband` from it on the same side, and then follows them until it is within `SETTLED` of
-them. The blob's size wobbles by far more than a person's depth changes while they stand (a head
-turning widens it and shortens it; hair, a hand near the face, lighting), so following it frame
-by frame is further from the truth than holding. A subject who steps closer therefore changes
-depth, never body size. Measurements are rejected when the head blob is merged with a hand or
-its width changes by more than `max_jump` from last frame's. X and Y: the head point (only when
-its blob is about a head's size: a hand on the head that the matching did not see would drag it,
-and a scrap of skin taken for the head while a hand covers the face would drop it)
-back-projected at that depth, minus the head's offset from the root at the predicted pose,
-blended with last frame's fitted root (whose x, y the torso search refines). A measurement
+(Z = Z0 * w0 / w); the held depth moves only when the medians of the last five of both lie more
+than `depth_deadband` from it on the same side, and then follows them until it is within
+`SETTLED` of them. The blob's size wobbles by far more than a person's depth changes while they
+stand (a head turning widens it and shortens it; hair, a hand near the face, lighting), so
+following it frame by frame is further from the truth than holding. A subject who steps closer
+therefore changes depth, never body size. Measurements are rejected when the head blob is merged
+with a hand or its width changes by more than `max_jump` from last frame's. X and Y: the head
+point (only when its blob is about a head's size: a hand on the head that the matching did not
+see would drag it, and a scrap of skin taken for the head while a hand covers the face would
+drop it) back-projected at that depth, minus the head's offset from the root at the predicted
+pose, blended with last frame's fitted root (whose x, y the torso search refines). A measurement
 farther from last frame's root (moved on at its velocity) than a head moves in one frame is held
 back, and does not move the depth either, until a few in a row agree with each other (then the
 person did move). Frames without a usable head point blend with the last measurement instead, so
@@ -69,7 +69,7 @@ class RootEstimator:
         body: BodyModel,
         root: npt.ArrayLike,
         head_blob_width: float | None,
-        head_blob_height: float | None = None,
+        head_blob_height: float | None,
         head_bias: npt.ArrayLike = (0.0, 0.0),
         head_size_px: float | None = None,
         depth_gain: float = 0.15,
@@ -177,13 +177,14 @@ class RootEstimator:
             return
         self._by_width.append(self._z0 * self._w0 / width)
         self._by_height.append(self._z0 * self._h0 / height)
-        by_width = float(np.median(self._by_width)) / self.depth - 1.0
-        by_height = float(np.median(self._by_height)) / self.depth - 1.0
+        z_width, z_height = float(np.median(self._by_width)), float(np.median(self._by_height))
         if not self._following:
             # Both beyond the deadband, on the same side: the person stepped closer or back.
-            self._following = min(abs(by_width), abs(by_height)) > self._deadband and by_width * by_height > 0
+            off_width, off_height = z_width / self.depth - 1.0, z_height / self.depth - 1.0
+            beyond = min(abs(off_width), abs(off_height)) > self._deadband
+            self._following = beyond and off_width * off_height > 0
         if self._following:
-            measured = self.depth * float(np.sqrt((1.0 + by_width) * (1.0 + by_height)))
+            measured = float(np.sqrt(z_width * z_height))
             self.root[2] += self._depth_gain * (measured - self.root[2])
             self._following = abs(measured / self.depth - 1.0) > SETTLED
 

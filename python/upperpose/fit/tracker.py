@@ -554,7 +554,7 @@ class Tracker:
         self._body = self._base_body
         self._pose = Pose.a_pose().angles.copy()
         self._previous_pose = self._pose.copy()
-        self._root = RootEstimator(self.camera, self._body, [0.0, 0.0, 2.2], None)
+        self._root = RootEstimator(self.camera, self._body, [0.0, 0.0, 2.2], None, None)
         self._last_root = None
         self._labels = None
         self._last_joints = None
