@@ -87,6 +87,22 @@ def test_a_hand_on_the_face_takes_no_scrap_of_skin() -> None:
     assert not left.merged and blobs[left.blob].area < 100
 
 
+def test_a_hand_on_the_face_shares_it_rather_than_take_a_free_blob_farther_away() -> None:
+    # Left hand at the mouth (one blob with the face) and the bare right upper arm 60-70 px
+    # from the predicted hand, within its gate (90 px). Taking the arm's blob, the hand's point
+    # would be the arm's far end, across the body.
+    hand = disc((338, 128), 14)
+    upper_arm = bar((275, 160), (265, 215), 16)
+    blobs = blobs_of(face, hand, upper_arm, disc((200, 300), 14))
+    prediction = joints((320, 100), (200, 300), (335, 122))
+    head, right, left = locate_points(blobs, prediction, CONFIG)
+    assert left.merged and head.merged and left.blob == head.blob
+    assert not right.merged and np.hypot(right.xy[0] - 200, right.xy[1] - 300) < 3
+    # Only distinct blobs (the matching before sharing had a cost): the arm's blob.
+    _, _, left = locate_points(blobs, prediction, CONFIG.replace(blob_share_cost=10.0))
+    assert not left.merged and blobs[left.blob].bbox[0] < 290
+
+
 def test_far_end_of_a_forearm_blob() -> None:
     # Bare forearm from (200, 250) to (140, 370) ending in the hand: the point is near the hand.
     forearm = bar((200, 250), (140, 370), 22)
@@ -229,11 +245,19 @@ def test_hand_leaving_the_face_does_not_push_the_head_onto_it() -> None:
     blobs = blobs_of(face, hand, disc((440, 310), 14))
     predicted = joints((320, 100), (320, 80), (436, 305))
     head, right, _ = locate_points(blobs, predicted, CONFIG)
+    assert blobs[head.blob].distance_to((320, 100)) == 0 and abs(head.xy[1] - 100) < 20
+    # The model's hand deep in the face, 0.7 shoulder widths from the real one: at the default
+    # `blob_share_cost` (0.45) it shares the face (both merged) rather than take the hand's blob.
+    assert head.merged and right.merged and right.blob == head.blob
+    # With distinct blobs only, the hand takes its own blob and the head keeps the face.
+    head, right, _ = locate_points(blobs, predicted, CONFIG.replace(blob_share_cost=10.0))
     assert not head.merged and abs(head.xy[1] - 100) < 20
     assert np.hypot(right.xy[0] - 300, right.xy[1] - 160) < 8
     # The priority alone: with the smaller floor on a part's blob (`part_min_share` 0.1), the
     # hand's blob is large enough for the head, which takes it without the priority.
-    swapped, _, _ = locate_points(blobs, predicted, CONFIG.replace(head_priority=1.0, part_min_share=0.1))
+    swapped, _, _ = locate_points(
+        blobs, predicted, CONFIG.replace(head_priority=1.0, part_min_share=0.1, blob_share_cost=10.0)
+    )
     assert abs(swapped.xy[1] - 160) < 10, "without the priority the head takes the hand's blob"
 
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+import math
 from dataclasses import dataclass
 from typing import Literal
 
@@ -179,6 +180,13 @@ class FeatureConfig:
     hand_gate: float = 0.9
     """Hand and head matching: largest distance from the predicted joint to the nearest
     blob pixel, in units of the predicted shoulder width."""
+
+    blob_share_cost: float = 0.45
+    """Hand and head matching: what sharing a blob with another part adds to the matching's
+    total distance, in predicted shoulder widths (half the `hand_gate`; from twice the gate on,
+    parts share only when no other blob is within the gate). A hand predicted on the face's blob (a hand at the
+    mouth) then shares it rather than take a free blob farther away (bare skin of the other
+    arm), whose far end would pull the arm there and mark it lost."""
 
     head_priority: float = 3.0
     """Hand and head matching: the head's distance counts this many times a hand's when blobs
@@ -420,6 +428,8 @@ class FeatureConfig:
         ):
             if not getattr(self, name) > 0:
                 raise InputError(f"{name} must be positive, got {getattr(self, name)}")
+        if not 0 <= self.blob_share_cost < math.inf:
+            raise InputError(f"blob_share_cost must be a number >= 0, got {self.blob_share_cost}")
         if not self.exposure_tolerance >= 0:
             raise InputError(f"exposure_tolerance must be >= 0, got {self.exposure_tolerance}")
         if self.exposure_step < 1:

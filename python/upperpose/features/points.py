@@ -1,15 +1,15 @@
 """Head and hand points from the skin blobs (SPEC 4).
 
 With a prediction (the tracker's joints from the previous frame) each of head, right hand and
-left hand is matched to a distinct blob within a gate around its predicted position; a part
-whose only blob within the gate is taken by another part shares it: both are reported merged
-and carry no measured point. A hand's point is the centroid of the far end of its blob along
-the forearm (predicted elbow to predicted hand), one hand length long, so that a blob that
-covers a bare forearm still gives the hand; along the blob's own long axis instead when that
-axis points away from both the predicted elbow and shoulder (`hand_direction`). The head's
-point is the centre of the largest disc inside its blob's convex hull, searched in the top head
-length along the neck-to-head direction (the head at its widest, with or without the hair;
-drops a bare neck and chest).
+left hand is matched to a blob within a gate around its predicted position, a distinct one
+unless sharing one costs less (`assign`); a part whose only blob within the gate is taken by
+another part shares it too. Parts that share a blob are reported merged and carry no measured
+point. A hand's point is the centroid of the far end of its blob along the forearm (predicted
+elbow to predicted hand), one hand length long, so that a blob that covers a bare forearm still
+gives the hand; along the blob's own long axis instead when that axis points away from both the
+predicted elbow and shoulder (`hand_direction`). The head's point is the centre of the largest
+disc inside its blob's convex hull, searched in the top head length along the neck-to-head
+direction (the head at its widest, with or without the hair; drops a bare neck and chest).
 
 Without a prediction (start-up) the three largest blobs are taken: the topmost is the head,
 the others hands by their side of it (image left = the subject's right hand).
@@ -108,14 +108,17 @@ def assign(
     gate: float,
     weights: list[float] | None = None,
     min_areas: list[float] | None = None,
+    share_cost: float = math.inf,
 ) -> Matching:
-    """Matches each target position to a distinct blob within `gate`, minimising total distance.
+    """Matches each target position to a blob within `gate`, minimising total distance.
 
     Each target's distance is weighed by `weights` (default 1); a target only takes blobs of at
-    least its `min_areas` pixels (default any).
+    least its `min_areas` pixels (default any). Targets may share a blob at `share_cost` pixels
+    per extra holder (default: only distinct blobs), so that a hand lying on the face's blob
+    shares it rather than take a free blob far away.
 
     A target left without a blob while some blob is within its gate shares the nearest such
-    blob with the target that holds it: both are marked merged.
+    blob with the target that holds it. Every target on a shared blob is marked merged.
 
     Returns:
         (blob index or None per target, merged flag per target).
@@ -134,21 +137,17 @@ def assign(
     weight = weights or [1.0] * len(targets)
     for combo in itertools.product(*options):
         chosen = [c[0] for c in combo if c[0] is not None]
-        if len(chosen) != len(set(chosen)):
+        extra = len(chosen) - len(set(chosen))
+        if extra and not math.isfinite(share_cost):
             continue
-        cost = sum(w * c[1] for w, c in zip(weight, combo))
+        cost = sum(w * c[1] for w, c in zip(weight, combo)) + (share_cost * extra if extra else 0.0)
         if cost < best[0]:
             best = (cost, tuple(c[0] for c in combo))
     matched: list[int | None] = list(best[1])
-    merged = [False] * len(targets)
     for k, index in enumerate(best[1]):
         if index is None and candidates[k]:
-            shared = candidates[k][0][0]
-            matched[k] = shared
-            merged[k] = True
-            for j, other in enumerate(best[1]):
-                if other == shared:
-                    merged[j] = True
+            matched[k] = candidates[k][0][0]
+    merged = [index is not None and matched.count(index) > 1 for index in matched]
     return matched, merged
 
 
@@ -240,7 +239,14 @@ def match_points(blobs: list[SkinBlob], joints: npt.NDArray[np.float64], config:
     """Head, right hand and left hand matched to the blobs (`assign`) around predicted 2D joints."""
     shoulder_px = shoulder_width(joints, config)
     gate = config.hand_gate * shoulder_px
-    return assign(blobs, point_targets(joints), gate, point_weights(config), point_min_areas(config, shoulder_px))
+    return assign(
+        blobs,
+        point_targets(joints),
+        gate,
+        point_weights(config),
+        point_min_areas(config, shoulder_px),
+        config.blob_share_cost * shoulder_px,
+    )
 
 
 def points_with_prediction(
