@@ -103,6 +103,25 @@ def test_a_hand_on_the_face_shares_it_rather_than_take_a_free_blob_farther_away(
     assert not left.merged and blobs[left.blob].bbox[0] < 290
 
 
+def test_a_hand_cut_by_the_border_is_a_box_beyond_it() -> None:
+    # A bare forearm raised out of the top of the frame: its visible end is the border, not the
+    # hand. With the image's size the hand is reported as a box from the far end's pixels up
+    # to a frame's height above the border, widened by the far end's length along it.
+    forearm = bar((450, 120), (460, 0), 22)
+    blobs = blobs_of(face, forearm)
+    prediction = joints((320, 100), (150, 400), (458, 10), left_elbow=(448, 125))
+    _, _, left = locate_points(blobs, prediction, CONFIG)
+    assert not left.merged and left.xy[1] < 30  # without the size: a point at the border
+    _, _, left = locate_points(blobs, prediction, CONFIG, size=(480, 640))
+    assert left.merged
+    x0, y0, x1, y1 = left.box
+    assert y0 == -480 and 0 < y1 <= 60 and x0 < 440 and x1 > 470
+    # A hand well inside the frame stays a point.
+    inside = joints((320, 100), (150, 400), (458, 125), left_elbow=(448, 230))
+    _, _, left = locate_points(blobs_of(face, bar((450, 220), (460, 120), 22)), inside, CONFIG, size=(480, 640))
+    assert not left.merged and left.box is None
+
+
 def test_far_end_of_a_forearm_blob() -> None:
     # Bare forearm from (200, 250) to (140, 370) ending in the hand: the point is near the hand.
     forearm = bar((200, 250), (140, 370), 22)

@@ -392,7 +392,7 @@ class FeatureExtractor:
         if joints is not None:
             blobs, matching = split_head_from_hands(blobs, relit, joints, cfg)
         clock.lap("blobs")
-        head, right_hand, left_hand = locate_points(blobs, joints, cfg, matching)
+        head, right_hand, left_hand = locate_points(blobs, joints, cfg, matching, size)
         clock.lap("points")
         flags = motion_flags(motion, labels, cfg) if labels is not None else None
         clock.lap("motion_flags")

@@ -45,11 +45,13 @@ class SkinPoint:
     Attributes:
         xy: (x, y) in pixels. For a merged point this is the merged blob's centroid, a hint
             for drawing only, not a measurement of the part.
-        merged: the blob also holds another part (hand on face, hands together); the cost
-            must not use `xy`, only the blob's box (`FrameFeatures.merged_boxes_array`).
+        merged: the blob also holds another part (hand on face, hands together), or a hand's
+            end is cut by the image's border; the cost must not use `xy`, only the box
+            (`FrameFeatures.merged_boxes_array`).
         blob: index of the blob in `FrameFeatures.blobs`.
         box: for a hand merged with the head, (x0, y0, x1, y1) of the blob's pixels clear of the
-            predicted head, where the hand can be; None: anywhere in the blob.
+            predicted head, where the hand can be; for a hand cut by the border, its far end's
+            box stretched beyond the border (`beyond_border`); None: anywhere in the blob.
     """
 
     xy: tuple[float, float]
@@ -64,11 +66,45 @@ def unit(vector: npt.NDArray[np.float64]) -> npt.NDArray[np.float64] | None:
     return vector / norm if np.isfinite(norm) and norm > 1e-6 else None
 
 
-def far_end(blob: SkinBlob, direction: npt.NDArray[np.float64], length: float) -> tuple[float, float]:
-    """Centroid of the blob's pixels within `length` pixels of its far end along `direction`."""
+def far_end_pixels(
+    blob: SkinBlob, direction: npt.NDArray[np.float64], length: float
+) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.int64]]:
+    """x and y of the blob's pixels within `length` pixels of its far end along `direction`."""
     t = blob.xs * direction[0] + blob.ys * direction[1]
     keep = t >= t.max() - length
-    return float(blob.xs[keep].mean()), float(blob.ys[keep].mean())
+    return blob.xs[keep], blob.ys[keep]
+
+
+def far_end(blob: SkinBlob, direction: npt.NDArray[np.float64], length: float) -> tuple[float, float]:
+    """Centroid of the blob's pixels within `length` pixels of its far end along `direction`."""
+    xs, ys = far_end_pixels(blob, direction, length)
+    return float(xs.mean()), float(ys.mean())
+
+
+def beyond_border(
+    xs: npt.NDArray[np.int64], ys: npt.NDArray[np.int64], size: tuple[int, int], reach: float
+) -> tuple[float, float, float, float] | None:
+    """Where a hand whose far end (pixels `xs`, `ys`) touches the image's border may lie, or None.
+
+    A hand cut by the border (raised out of the frame) has its visible end on the border, not
+    at the hand: the box is the far end's bounding box, widened by `reach` pixels along each
+    border it touches and stretched a frame's size beyond it.
+    """
+    height, width = size
+    x0, y0, x1, y1 = float(xs.min()), float(ys.min()), float(xs.max()), float(ys.max())
+    left, top, right, bottom = x0 <= 1, y0 <= 1, x1 >= width - 2, y1 >= height - 2
+    if not (left or top or right or bottom):
+        return None
+    if top or bottom:
+        x0, x1 = x0 - reach, x1 + reach
+    if left or right:
+        y0, y1 = y0 - reach, y1 + reach
+    return (
+        x0 - width if left else x0,
+        y0 - height if top else y0,
+        x1 + width if right else x1,
+        y1 + height if bottom else y1,
+    )
 
 
 def head_centre(blob: SkinBlob, direction: npt.NDArray[np.float64], length: float) -> tuple[float, float]:
@@ -254,10 +290,13 @@ def points_with_prediction(
     joints: npt.NDArray[np.float64],
     config: FeatureConfig,
     matching: Matching | None = None,
+    size: tuple[int, int] | None = None,
 ) -> list[SkinPoint | None]:
     """Head, right hand and left hand from the blobs, given predicted 2D joints (JOINT_NAMES order).
 
     `matching`: `match_points` of these blobs and joints, when the caller has it already.
+    `size`: the image's (height, width); with it, a hand whose far end touches the border is
+    reported merged with the box `beyond_border` gives.
     """
     shoulder_px = shoulder_width(joints, config)
     matched, merged = matching if matching is not None else match_points(blobs, joints, config)
@@ -286,7 +325,13 @@ def points_with_prediction(
         else:
             shoulder, elbow, hand = (joints[j + k - 1] for j in (RIGHT_SHOULDER, RIGHT_ELBOW, RIGHT_HAND))
             along = hand_direction(blob, direction, shoulder, elbow)
-            xy = far_end(blob, along, hand_slab(blob, elbow, hand, shoulder_px, config))
+            length = hand_slab(blob, elbow, hand, shoulder_px, config)
+            xs, ys = far_end_pixels(blob, along, length)
+            xy = float(xs.mean()), float(ys.mean())
+            box = beyond_border(xs, ys, size, length) if size is not None else None
+            if box is not None:
+                points.append(SkinPoint(xy, True, index, box))
+                continue
         points.append(SkinPoint(xy, merged[k], index, box))
     return points
 
@@ -325,6 +370,7 @@ def locate_points(
     joints: npt.NDArray[np.float64] | None,
     config: FeatureConfig,
     matching: Matching | None = None,
+    size: tuple[int, int] | None = None,
 ) -> list[SkinPoint | None]:
     """Head, right hand and left hand (POINT_NAMES order); None where a part has no blob.
 
@@ -333,7 +379,8 @@ def locate_points(
         joints: `(7, 2)` predicted joints in pixels (JOINT_NAMES order), or None at start-up.
         config: gates and lengths.
         matching: `match_points(blobs, joints, config)` when already computed (the split's).
+        size: the image's (height, width): a hand cut by the border is then a box, not a point.
     """
     if joints is None:
         return points_at_startup(blobs, config)
-    return points_with_prediction(blobs, joints, config, matching)
+    return points_with_prediction(blobs, joints, config, matching, size)
