@@ -184,9 +184,9 @@ class FeatureConfig:
     blob_share_cost: float = 0.45
     """Hand and head matching: what sharing a blob with another part adds to the matching's
     total distance, in predicted shoulder widths (half the `hand_gate`; from twice the gate on,
-    parts share only when no other blob is within the gate). A hand predicted on the face's blob (a hand at the
-    mouth) then shares it rather than take a free blob farther away (bare skin of the other
-    arm), whose far end would pull the arm there and mark it lost."""
+    parts share only when no other blob is within the gate). A hand predicted on the face's
+    blob (a hand at the mouth) then shares it rather than take a free blob farther away (bare
+    skin of the other arm), whose far end would pull the arm there and mark it lost."""
 
     head_priority: float = 3.0
     """Hand and head matching: the head's distance counts this many times a hand's when blobs

@@ -118,8 +118,9 @@ class FrameFeatures:
         """`(3, 4)` float64 (x0, y0, x1, y1) per point, the box of the merged blob holding it.
 
         The box is the whole blob's, or `SkinPoint.box` (the part of it where the point can
-        be); NaN rows for points that are absent or not merged. A merged blob gives no point
-        for the parts it holds, but it does say that they are in it.
+        be, which for a hand cut by the image's border reaches beyond the image); NaN rows for
+        points that are absent or not merged. A merged blob gives no point for the parts it
+        holds, but it does say that they are in it.
         """
         out = np.full((3, 4), np.nan)
         for k, point in enumerate(self.points):
