@@ -69,7 +69,7 @@ def unit(vector: npt.NDArray[np.float64]) -> npt.NDArray[np.float64] | None:
 def far_end_pixels(
     blob: SkinBlob, direction: npt.NDArray[np.float64], length: float
 ) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.int64]]:
-    """x and y of the blob's pixels within `length` pixels of its far end along `direction`."""
+    """The blob's pixels (x, y) within `length` pixels of its far end along `direction`."""
     t = blob.xs * direction[0] + blob.ys * direction[1]
     keep = t >= t.max() - length
     return blob.xs[keep], blob.ys[keep]
