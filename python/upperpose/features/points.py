@@ -173,10 +173,12 @@ def assign(
     weight = weights or [1.0] * len(targets)
     for combo in itertools.product(*options):
         chosen = [c[0] for c in combo if c[0] is not None]
+        cost = sum(w * c[1] for w, c in zip(weight, combo))
         extra = len(chosen) - len(set(chosen))
-        if extra and not math.isfinite(share_cost):
-            continue
-        cost = sum(w * c[1] for w, c in zip(weight, combo)) + (share_cost * extra if extra else 0.0)
+        if extra:
+            if not math.isfinite(share_cost):
+                continue
+            cost += share_cost * extra
         if cost < best[0]:
             best = (cost, tuple(c[0] for c in combo))
     matched: list[int | None] = list(best[1])
@@ -329,10 +331,8 @@ def points_with_prediction(
             xs, ys = far_end_pixels(blob, along, length)
             xy = float(xs.mean()), float(ys.mean())
             box = beyond_border(xs, ys, size, length) if size is not None else None
-            if box is not None:
-                points.append(SkinPoint(xy, True, index, box))
-                continue
-        points.append(SkinPoint(xy, merged[k], index, box))
+        # A box says where the part may be instead of a point: a hand on the face, or cut by the border.
+        points.append(SkinPoint(xy, merged[k] or box is not None, index, box))
     return points
 
 
