@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from upperpose.features import (
+    Background,
     CleanPlateWarning,
     FeatureConfig,
     background_from_video,
@@ -15,7 +16,7 @@ from upperpose.features import (
 )
 from upperpose.features.background import iterative_masked_median
 from upperpose.features.config import PersonTemplate
-from upperpose.features.person_cut import find_face, grabcut_seed, person_in_median
+from upperpose.features.person_cut import find_face, grabcut_seed, person_in_median, with_bare_arms
 from upperpose.lab.feature_scene import textured_background
 from upperpose.lab.synth import ClipConfig, plan_clip, render_frame
 
@@ -180,6 +181,90 @@ def test_person_cut_is_the_same_whatever_the_callers_random_state(still_person) 
         np.testing.assert_array_equal(after, draw())
     assert cuts[0] is not None and cuts[1] is not None
     np.testing.assert_array_equal(cuts[0], cuts[1])
+
+
+def test_bare_arms_held_out_for_the_whole_video_are_cut_out_of_the_plate() -> None:
+    # A person who holds the A-pose in every sample: the body template leaves the forearms
+    # in the room, so without their skin the plate keeps them and I_sil never sees them.
+    plan = plan_clip(ClipConfig("wave_right", 60, seed=9, width=480, height=360, fps=20.0))
+    frame, person, _ = render_frame(plan, 0)
+    samples = [frame] * 3
+    plain_config = FeatureConfig(bg_cut_bare_arms=False)
+    plain = person_in_median(frame, samples, plain_config)
+    cut = person_in_median(frame, samples, FeatureConfig())
+    assert plain is not None and cut is not None
+    missed = person & (plain == 0)  # the arms outside the template
+    assert missed.sum() > 0.1 * person.sum()
+    assert (cut[missed] > 0).mean() > 0.8
+    assert ((cut > 0) & ~person).sum() < 0.03 * person.sum()  # and hardly any room
+
+    def arm_in_sil(config: FeatureConfig) -> float:
+        plate, _ = iterative_masked_median(samples, config)
+        sil = compute_features(frame, Background.from_plate(plate, config)).sil > 0
+        return float(sil[missed].mean())
+
+    assert arm_in_sil(plain_config) < 0.2
+    assert arm_in_sil(FeatureConfig()) > 0.7
+
+
+def bare_arm_scene() -> tuple[np.ndarray, np.ndarray, tuple[int, int, int, int], dict[str, np.ndarray]]:
+    """A face and a torso (the cut-out person) and skin-coloured regions beside them.
+
+    Returns the image, the person mask, the face box and the regions: an arm out from the
+    torso's side at chest height, a bar beside the head, a one-pixel line from the torso, and
+    a block as large as a door against the other side of the torso.
+    """
+    rng = np.random.default_rng(0)
+    image = np.full((240, 320, 3), (200, 190, 180), np.uint8)
+    person = np.zeros(image.shape[:2], np.uint8)
+    skin = (120, 150, 210)
+
+    def paint(region: np.ndarray, colour: tuple[int, int, int]) -> None:
+        noisy = np.array(colour) + rng.normal(0, 3, (int(region.sum()), 3))
+        image[region] = np.clip(noisy, 0, 255).astype(np.uint8)
+
+    def line(start: tuple[int, int], end: tuple[int, int], thickness: int) -> np.ndarray:
+        drawn = np.zeros(image.shape[:2], np.uint8)
+        cv2.line(drawn, start, end, 255, thickness)
+        return (drawn > 0) & (person == 0)
+
+    face = (140, 40, 40, 40)
+    person[40:80, 140:180] = 255
+    person[80:240, 120:200] = 255
+    rows = np.indices(person.shape)[0]
+    paint((rows < 80) & (person > 0), skin)
+    paint((rows >= 80) & (person > 0), (160, 60, 40))
+    regions = {
+        "arm": line((200, 110), (260, 180), 16),
+        "beside the head": line((180, 55), (240, 55), 16),
+        "thin line": line((120, 120), (60, 140), 1),
+        "door": np.zeros(image.shape[:2], bool),
+    }
+    regions["door"][90:240, 20:119] = True
+    for region in regions.values():
+        paint(region, skin)
+    return image, person, face, regions
+
+
+def test_only_arm_shaped_skin_that_stays_put_is_added_to_the_person() -> None:
+    image, person, face, regions = bare_arm_scene()
+    added = (with_bare_arms(image, person, face, [image] * 4, FeatureConfig()) > 0) & (person == 0)
+    assert added[regions["arm"]].all()
+    assert not added[~regions["arm"]].any()  # the bar beside the head, the line, the door
+    # An arm that is elsewhere in half the samples: the median sees past it there anyway.
+    moved = image.copy()
+    moved[regions["arm"]] = (200, 190, 180)
+    added = with_bare_arms(image, person, face, [image, image, moved, moved], FeatureConfig()) > 0
+    assert not added[regions["arm"]].any()
+
+
+@pytest.mark.parametrize(
+    "field, value",
+    [("arm_min_still", 1.5), ("arm_contact", (4.0, 1.5)), ("arm_zone", (float("nan"), 6.0)), ("arm_max_area", -1.0)],
+)
+def test_bare_arm_settings_are_checked(field, value) -> None:
+    with pytest.raises(ValueError, match=field):
+        PersonTemplate(**{field: value})
 
 
 def test_grabcut_seed_nests_its_regions() -> None:

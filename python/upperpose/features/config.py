@@ -61,6 +61,46 @@ class PersonTemplate:
     sure_chest: tuple[float, float, float] = (0.45, 2.0, 3.2)
     """Sure person: chest rectangle (half width in w, top in h, bottom in h)."""
 
+    arm_zone: tuple[float, float] = (4.0, 6.0)
+    """A bare arm that never moves (`bg_cut_bare_arms`) lies within this half width (w) of
+    the face's centre line and above this height (h): an arm's span either side."""
+
+    arm_contact: tuple[float, float] = (1.5, 4.0)
+    """Such an arm meets the cut-out person (on average) between these heights (h): where the
+    upper arm hangs, from the shoulders to about the elbows; not beside the head, and not at
+    the hips, where chairs and tables stand against a person."""
+
+    arm_min_reach: float = 1.0
+    """Such an arm reaches at least this far (w) beyond the cut-out person (a forearm is about
+    1.5 face heights long; a skin-coloured scrap of the room beside the person does not)."""
+
+    arm_max_area: float = 3.0
+    """Such an arm covers at most this many face boxes (a forearm and hand cover about two)."""
+
+    arm_min_still: float = 0.9
+    """Such an arm shows in the samples this often (mean over its pixels of the share of samples
+    that match the median there): an arm the person moves is seen past in the other samples."""
+
+    arm_min_thickness: float = 0.1
+    """Such an arm is at least this thick (w; twice its pixels' mean distance to its edge, half
+    the width of a bar): not the skin-coloured edge line of an object."""
+
+    def __post_init__(self) -> None:
+        sizes = {
+            "arm_zone": self.arm_zone,
+            "arm_contact": self.arm_contact,
+            "arm_min_reach": (self.arm_min_reach,),
+            "arm_max_area": (self.arm_max_area,),
+            "arm_min_thickness": (self.arm_min_thickness,),
+        }
+        for name, values in sizes.items():
+            if not all(math.isfinite(v) and v >= 0 for v in values):
+                raise InputError(f"bg_person.{name} must be finite and >= 0, got {getattr(self, name)}")
+        if not self.arm_contact[0] <= self.arm_contact[1]:
+            raise InputError(f"bg_person.arm_contact must run from top to bottom, got {self.arm_contact}")
+        if not 0.0 <= self.arm_min_still <= 1.0:
+            raise InputError(f"bg_person.arm_min_still must be within 0..1, got {self.arm_min_still}")
+
 
 @dataclass(frozen=True)
 class FeatureConfig:
@@ -309,6 +349,11 @@ class FeatureConfig:
 
     bg_person: PersonTemplate = PersonTemplate()
     """Background estimation: the body region around the face that seeds the person cut."""
+
+    bg_cut_bare_arms: bool = True
+    """Background estimation: add to the cut-out person the bare arms (in the person's skin
+    colour, learnt from the face) that stay put beside them; the body template leaves an arm
+    held out from the body in the room, and a median keeps it in the plate."""
 
     bg_grabcut_scale: float = 2.0
     """Background estimation: the median image is shrunk by this factor for GrabCut (speed)."""

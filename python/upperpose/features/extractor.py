@@ -24,7 +24,7 @@ from upperpose.features.parts import (
     torso_region_from_labels,
     torso_region_from_shoulders,
 )
-from upperpose.features.person_skin import PersonSkin
+from upperpose.features.person_skin import PersonSkin, skin_of_face
 from upperpose.features.points import HEAD, LEFT_SHOULDER, RIGHT_SHOULDER, locate_points, shoulder_width
 from upperpose.features.skin import SkinWork, skin_mask
 from upperpose.features.split import split_head_from_hands
@@ -155,17 +155,8 @@ class FeatureExtractor:
         if not cfg.person_skin:
             return None
         relit = self._plate_for(check_frame(frame, "frame", self.background.size))[3]
-        # The model reads the generic rule inside the face box only (the rule is per pixel), or
-        # every pixel there for a face the rule fails on.
+        self.person_skin = skin_of_face(relit, face, cfg, whole_face)
         x, y, w, h = face
-        box = (slice(max(y, 0), max(y + h, 0)), slice(max(x, 0), max(x + w, 0)))
-        skin = np.zeros(relit.shape[:2], np.uint8)
-        if skin[box].size:
-            skin[box] = 255 if whole_face else skin_mask(np.ascontiguousarray(relit[box]), cfg)
-        self.person_skin = PersonSkin.from_face(
-            relit, face, skin, cfg.person_skin_sigmas, cfg.person_skin_min_hue_spread,
-            cfg.person_skin_min_saturation_spread,
-        )  # fmt: skip
         self._face_zone = ((x + w / 2, y + h / 2), HEAD_ZONE_FACES * w)
         if self.person_skin is not None:
             # The room in the person's skin colour, as `Background.skin` is in the generic rule's.

@@ -5,7 +5,8 @@ who hardly moves. Their face is found (OpenCV's Haar cascade, boxes mostly skin)
 image, or, when the head moved too much to leave a face there, in the sample frame that agrees
 most with the median inside its face box (the person's most frequent place), a body region
 is laid out around it in face units (`PersonTemplate`), and GrabCut separates the person from
-the room inside that region by colour. The result marks the pixels of the median image that
+the room inside that region by colour; bare arms that stay put outside it are added by the
+person's skin colour (`with_bare_arms`). The result marks the pixels of the median image that
 show the person; `background.iterative_masked_median` masks them out of the samples where the
 person is still there and inpaints what no sample shows.
 """
@@ -24,6 +25,7 @@ from upperpose.features.change import colour_change
 from upperpose.features.checks import Frame, Mask
 from upperpose.features.config import FeatureConfig, PersonTemplate
 from upperpose.features.faces import FaceBox, FaceDetector, choose_face
+from upperpose.features.person_skin import skin_of_face
 from upperpose.features.skin import skin_mask
 
 
@@ -145,7 +147,70 @@ def person_in_median(image: Frame, samples: Sequence[Frame], config: FeatureConf
     if face is None:
         return None
     height, width = image.shape[:2]
-    return grabcut_person(image, grabcut_seed((height, width), face, config.bg_person), config)
+    person = grabcut_person(image, grabcut_seed((height, width), face, config.bg_person), config)
+    if person is not None and config.bg_cut_bare_arms:
+        person = with_bare_arms(image, person, face, samples, config)
+    return person
+
+
+def with_bare_arms(image: Frame, person: Mask, face: FaceBox, samples: Sequence[Frame], config: FeatureConfig) -> Mask:
+    """`person` with the bare arms that stay put beside it (`PersonTemplate.arm_*`).
+
+    An arm held out from the body for the whole video (a lasting A-pose) lies outside the body
+    template, so GrabCut leaves it to the room, the median keeps it in the plate and I_sil never
+    sees it. Its skin shows it: a region in the person's skin colour (learnt from the face) that
+    touches the cut-out person between shoulders and hips, reaches out from it as far as a
+    forearm, is as thick as one and no larger than an arm and hand is the person's too, when
+    the samples show it there nearly always. (An arm the person moves at times lets the median
+    see past it anyway, and a skin-coloured pot its hand touches in the median would be taken
+    with it.)
+
+    Args:
+        image: the median image, `(H, W, 3)` uint8 BGR.
+        person: `(H, W)` uint8, 255 on the cut-out person.
+        face: the face box `(x, y, w, h)` the cut was seeded from.
+        samples: the frames the median was taken over.
+        config: the template (`bg_person`), the skin settings and `bg_person_match`.
+    """
+    template = config.bg_person
+    skin_model = skin_of_face(image, face, config)
+    if skin_model is None:
+        return person
+    x, y, w, h = face
+    centre = x + w / 2
+    zone = np.zeros_like(person)
+    half_width, bottom = template.arm_zone
+    rows = slice(max(y, 0), max(round(y + bottom * h), 0))
+    cols = slice(max(round(centre - half_width * w), 0), max(round(centre + half_width * w), 0))
+    zone[rows, cols] = 255
+    skin = cv2.bitwise_and(skin_model.mask(image), zone)
+    skin[person > 0] = 0
+    count, labels, stats, _ = cv2.connectedComponentsWithStats(skin, connectivity=8)
+    if count <= 1:
+        return person
+    beside = cv2.dilate(person, np.ones((7, 7), np.uint8)) > 0
+    beyond = cv2.distanceTransform(cv2.bitwise_not(person), cv2.DIST_L2, 3)
+    inside = cv2.distanceTransform(skin, cv2.DIST_L2, 3)
+    still = np.zeros(person.shape, np.float32)  # share of the samples that match the median
+    for sample in samples:
+        still += colour_change(sample, image, config.bg_person_match) == 0
+    still /= max(len(samples), 1)
+    top, low = y + template.arm_contact[0] * h, y + template.arm_contact[1] * h
+    out = cast(Mask, person.copy())
+    for label in range(1, count):
+        if stats[label, cv2.CC_STAT_AREA] > template.arm_max_area * w * h:
+            continue
+        region = labels == label
+        contact_rows = np.nonzero(region & beside)[0]
+        if (
+            contact_rows.size > 0
+            and top <= float(contact_rows.mean()) <= low
+            and float(beyond[region].max()) >= template.arm_min_reach * w
+            and 2.0 * float(inside[region].mean()) >= template.arm_min_thickness * w
+            and float(still[region].mean()) >= template.arm_min_still
+        ):
+            out[region] = 255
+    return out
 
 
 def grabcut_person(image: Frame, seed: Mask, config: FeatureConfig) -> Mask | None:
@@ -176,4 +241,4 @@ def grabcut_person(image: Frame, seed: Mask, config: FeatureConfig) -> Mask | No
     return cast(Mask, cv2.resize(person, (width, height), interpolation=cv2.INTER_NEAREST))
 
 
-__all__ = ["face_of_median", "find_face", "grabcut_person", "grabcut_seed", "person_in_median"]
+__all__ = ["face_of_median", "find_face", "grabcut_person", "grabcut_seed", "person_in_median", "with_bare_arms"]

@@ -19,6 +19,8 @@ import numpy as np
 import numpy.typing as npt
 
 from upperpose.features.checks import Frame, Mask
+from upperpose.features.config import FeatureConfig
+from upperpose.features.skin import skin_mask
 
 HUE_STEPS = 180  # OpenCV's 8-bit hue: 0..179, red at both ends
 # The table's second axis packs saturation (top 5 bits) and brightness (top 3 bits) into one byte:
@@ -123,6 +125,28 @@ class PersonSkin:
         table = self.room_table if room else self.table
         found = cv2.calcBackProject([hue, saturation], [0, 1], table, [0, HUE_STEPS, 0, 256], 1, dst=out)
         return np.asarray(found, dtype=np.uint8)
+
+
+def skin_of_face(
+    frame: Frame, face: tuple[int, int, int, int], config: FeatureConfig, whole_face: bool = False
+) -> PersonSkin | None:
+    """`PersonSkin.from_face` with `config`'s spreads, the generic rule read inside the face box only.
+
+    Args:
+        frame: `(H, W, 3)` uint8 BGR.
+        face: the face box `(x, y, w, h)`, pixels.
+        config: `person_skin_*` settings and the generic rule's.
+        whole_face: learn from every pixel of the face's core (a face the generic rule fails on).
+    """
+    x, y, w, h = face
+    box = (slice(max(y, 0), max(y + h, 0)), slice(max(x, 0), max(x + w, 0)))
+    skin = np.zeros(frame.shape[:2], np.uint8)
+    if skin[box].size:
+        skin[box] = 255 if whole_face else skin_mask(np.ascontiguousarray(frame[box]), config)
+    return PersonSkin.from_face(
+        frame, face, skin, config.person_skin_sigmas, config.person_skin_min_hue_spread,
+        config.person_skin_min_saturation_spread,
+    )  # fmt: skip
 
 
 def _tables(
