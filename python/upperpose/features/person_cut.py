@@ -159,7 +159,7 @@ def with_bare_arms(image: Frame, person: Mask, face: FaceBox, samples: Sequence[
     An arm held out from the body for the whole video (a lasting A-pose) lies outside the body
     template, so GrabCut leaves it to the room, the median keeps it in the plate and I_sil never
     sees it. Its skin shows it: a region in the person's skin colour (learnt from the face) that
-    touches the cut-out person between shoulders and hips, reaches out from it as far as a
+    touches the cut-out person where the upper arm hangs, reaches out from it as far as a
     forearm, is as thick as one and no larger than an arm and hand is the person's too, when
     the samples show it there nearly always. (An arm the person moves at times lets the median
     see past it anyway, and a skin-coloured pot its hand touches in the median would be taken
@@ -178,12 +178,11 @@ def with_bare_arms(image: Frame, person: Mask, face: FaceBox, samples: Sequence[
         return person
     x, y, w, h = face
     centre = x + w / 2
-    zone = np.zeros_like(person)
     half_width, bottom = template.arm_zone
     rows = slice(max(y, 0), max(round(y + bottom * h), 0))
     cols = slice(max(round(centre - half_width * w), 0), max(round(centre + half_width * w), 0))
-    zone[rows, cols] = 255
-    skin = cv2.bitwise_and(skin_model.mask(image), zone)
+    skin = np.zeros_like(person)
+    skin[rows, cols] = skin_model.mask(image)[rows, cols]
     skin[person > 0] = 0
     count, labels, stats, _ = cv2.connectedComponentsWithStats(skin, connectivity=8)
     if count <= 1:
@@ -191,10 +190,7 @@ def with_bare_arms(image: Frame, person: Mask, face: FaceBox, samples: Sequence[
     beside = cv2.dilate(person, np.ones((7, 7), np.uint8)) > 0
     beyond = cv2.distanceTransform(cv2.bitwise_not(person), cv2.DIST_L2, 3)
     inside = cv2.distanceTransform(skin, cv2.DIST_L2, 3)
-    still = np.zeros(person.shape, np.float32)  # share of the samples that match the median
-    for sample in samples:
-        still += colour_change(sample, image, config.bg_person_match) == 0
-    still /= max(len(samples), 1)
+    still: npt.NDArray[np.float32] | None = None  # share of the samples that match the median
     top, low = y + template.arm_contact[0] * h, y + template.arm_contact[1] * h
     out = cast(Mask, person.copy())
     for label in range(1, count):
@@ -207,9 +203,14 @@ def with_bare_arms(image: Frame, person: Mask, face: FaceBox, samples: Sequence[
             and top <= float(contact_rows.mean()) <= low
             and float(beyond[region].max()) >= template.arm_min_reach * w
             and 2.0 * float(inside[region].mean()) >= template.arm_min_thickness * w
-            and float(still[region].mean()) >= template.arm_min_still
         ):
-            out[region] = 255
+            if still is None:  # only for a region shaped and placed like an arm (rare)
+                still = np.zeros(person.shape, np.float32)
+                for sample in samples:
+                    still += colour_change(sample, image, config.bg_person_match) == 0
+                still /= max(len(samples), 1)
+            if float(still[region].mean()) >= template.arm_min_still:
+                out[region] = 255
     return out
 
 
