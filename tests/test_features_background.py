@@ -5,7 +5,10 @@ from __future__ import annotations
 import cv2
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
+from upperpose.exceptions import InputError
 from upperpose.features import (
     Background,
     CleanPlateWarning,
@@ -14,8 +17,9 @@ from upperpose.features import (
     compute_features,
     estimate_background,
 )
-from upperpose.features.background import iterative_masked_median
+from upperpose.features.background import iterative_masked_median, masked_median, median_pair
 from upperpose.features.config import PersonTemplate
+from upperpose.features.parallel import THREADS_ENV, worker_count
 from upperpose.features.person_cut import find_face, grabcut_seed, person_in_median, with_bare_arms
 from upperpose.lab.feature_scene import textured_background
 from upperpose.lab.synth import ClipConfig, plan_clip, render_frame
@@ -59,6 +63,55 @@ def test_masked_median_keeps_an_object_that_hardly_moves() -> None:
     frames += [frames[15]] * 30
     estimated, _ = iterative_masked_median(frames, FeatureConfig(bg_mask_dilate=5))
     assert (error(estimated, plate) > 30).sum() > 0.5 * 40 * 40
+
+
+def reference_masked_median(stack: np.ndarray, foreground: np.ndarray, fallback: np.ndarray) -> np.ndarray:
+    """Pixel by pixel: the middle (lower for an even count) of the unmasked samples' values."""
+    out = fallback.copy()
+    for y, x in np.ndindex(*foreground.shape[1:]):
+        kept = np.sort(stack[~foreground[:, y, x], y, x], axis=0)
+        if len(kept):
+            out[y, x] = kept[(len(kept) - 1) // 2]
+    return out
+
+
+@settings(max_examples=25, deadline=None)
+@given(
+    count=st.integers(1, 9),
+    height=st.integers(1, 70),
+    seed=st.integers(0, 2**32 - 1),
+    masked_share=st.sampled_from([0.0, 0.3, 0.9, 1.0]),
+    levels=st.sampled_from([3, 256]),
+)
+def test_masked_median_is_the_median_of_the_unmasked_samples(count, height, seed, masked_share, levels) -> None:
+    # Few levels make ties with the masked values' 255 likely; heights beyond one band of rows
+    # check that the bands join up.
+    rng = np.random.default_rng(seed)
+    stack = np.linspace(0, 255, levels).round().astype(np.uint8)[rng.integers(0, levels, (count, height, 5, 3))]
+    foreground = rng.random((count, height, 5)) < masked_share
+    fallback = rng.integers(0, 256, (height, 5, 3)).astype(np.uint8)
+    expected = reference_masked_median(stack, foreground, fallback)
+    np.testing.assert_array_equal(masked_median(stack, foreground, fallback), expected)
+    np.testing.assert_array_equal(masked_median(stack, foreground, fallback, median_pair(stack)[1]), expected)
+    median, lower = median_pair(stack)
+    np.testing.assert_array_equal(median, np.median(stack, axis=0).astype(np.uint8))
+    np.testing.assert_array_equal(lower, np.sort(stack, axis=0)[(count - 1) // 2])
+
+
+def test_the_plate_is_the_same_on_any_number_of_threads(still_person, monkeypatch) -> None:
+    frames, _, _ = still_person
+    plates = []
+    for threads in ("1", "3"):
+        monkeypatch.setenv(THREADS_ENV, threads)
+        plates.append(iterative_masked_median(frames, FeatureConfig())[0])
+    np.testing.assert_array_equal(plates[0], plates[1])
+
+
+@pytest.mark.parametrize("value", ["0", "-2", "two", ""])
+def test_a_bad_thread_count_is_named(monkeypatch, value) -> None:
+    monkeypatch.setenv(THREADS_ENV, value)
+    with pytest.raises(InputError, match=THREADS_ENV):
+        worker_count()
 
 
 def test_empty_lead_in_gives_the_plate_and_warns() -> None:

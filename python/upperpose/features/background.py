@@ -28,6 +28,7 @@ from upperpose.features.change import colour_change
 from upperpose.features.checks import Frame, Mask, check_frame
 from upperpose.features.config import FeatureConfig
 from upperpose.features.faces import FaceDetector
+from upperpose.features.parallel import map_in_threads, row_bands
 from upperpose.features.person_cut import find_face, person_in_median
 from upperpose.features.skin import skin_mask
 
@@ -122,25 +123,59 @@ class Background:
         return Background.from_plate(self.plate, config, estimated=self.estimated, method=self.method)
 
 
-def masked_median(stack: npt.NDArray[np.uint8], foreground: npt.NDArray[np.bool_], fallback: Frame) -> Frame:
-    """Per-pixel median over the samples where `foreground` is False.
+def median_pair(stack: npt.NDArray[np.uint8]) -> tuple[Frame, Frame]:
+    """Per-pixel medians of `(N, H, W, 3)` uint8 samples from one partial sort.
+
+    Returns:
+        (median, lower): `np.median`'s (the mean of the two middle values, truncated, for even
+        N) and the lower median (the middle value, the smaller of the two for even N).
+    """
+    n = len(stack)
+    lower = np.empty(stack.shape[1:], np.uint8)
+    upper = np.empty_like(lower)
+
+    def band(rows: slice) -> None:
+        middles = np.partition(stack[:, rows], [(n - 1) // 2, n // 2], axis=0)
+        lower[rows], upper[rows] = middles[(n - 1) // 2], middles[n // 2]
+
+    map_in_threads(band, row_bands(stack.shape[1]))
+    median = ((lower.astype(np.uint16) + upper) // 2).astype(np.uint8)
+    return median, lower
+
+
+def masked_median(
+    stack: npt.NDArray[np.uint8], foreground: npt.NDArray[np.bool_], fallback: Frame, lower: Frame | None = None
+) -> Frame:
+    """Per-pixel (lower) median over the samples where `foreground` is False.
 
     Args:
         stack: `(N, H, W, 3)` uint8 samples.
         foreground: `(N, H, W)` bool, True where a sample shows the person.
         fallback: `(H, W, 3)` value for pixels where every sample is foreground.
+        lower: the stack's lower median (`median_pair`), when already known.
 
     Returns:
         `(H, W, 3)` uint8.
     """
-    values = stack.astype(np.uint16)
-    values[foreground] = 1024  # sorts after every valid value
-    values.sort(axis=0)
-    valid = (~foreground).sum(axis=0)
-    index = np.maximum(valid - 1, 0) // 2
-    median = np.take_along_axis(values, index[None, :, :, None].repeat(3, axis=3), axis=0)[0]
-    out = np.where((valid > 0)[:, :, None], median, fallback)
-    return out.astype(np.uint8)
+    out: Frame = (median_pair(stack)[1] if lower is None else lower).copy()
+
+    def band(rows: slice) -> None:
+        # Only pixels some sample masks need sorting. A masked value becomes 255, the largest:
+        # the first `valid` sorted values are then exactly the unmasked ones, in order.
+        touched = foreground[:, rows].any(axis=0)
+        if not touched.any():
+            return
+        values = stack[:, rows][:, touched]
+        masked = foreground[:, rows][:, touched]
+        values[masked] = 255
+        values.sort(axis=0)
+        valid = (~masked).sum(axis=0)
+        index = np.maximum(valid - 1, 0) // 2
+        median = np.take_along_axis(values, index[None, :, None].repeat(3, axis=2), axis=0)[0]
+        out[rows][touched] = np.where((valid > 0)[:, None], median, fallback[rows][touched])
+
+    map_in_threads(band, row_bands(stack.shape[1]))
+    return out
 
 
 def foreground_against(stack: npt.NDArray[np.uint8], plate: Frame, config: FeatureConfig) -> npt.NDArray[np.bool_]:
@@ -192,18 +227,18 @@ def iterative_masked_median(samples: Sequence[Frame], config: FeatureConfig) -> 
         The plate and whether a person was cut out.
     """
     stack = np.stack(samples)
-    median = np.median(stack, axis=0).astype(np.uint8)
+    median, lower = median_pair(stack)
     person = person_in_median(median, samples, config) if config.bg_cut_person else None
     if person is None:
         plate = median
         for _ in range(config.bg_iterations):
-            plate = masked_median(stack, foreground_against(stack, plate, config), plate)
+            plate = masked_median(stack, foreground_against(stack, plate, config), plate, lower)
         return plate, False
     still = person_still_there(stack, median, person, config)
-    plate = fill_unseen(masked_median(stack, still, median), still, config)
+    plate = fill_unseen(masked_median(stack, still, median, lower), still, config)
     for _ in range(config.bg_iterations):
         foreground = still | foreground_against(stack, plate, config)
-        plate = fill_unseen(masked_median(stack, foreground, plate), foreground, config)
+        plate = fill_unseen(masked_median(stack, foreground, plate, lower), foreground, config)
     return plate, True
 
 

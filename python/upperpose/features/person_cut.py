@@ -14,7 +14,6 @@ person is still there and inpaints what no sample shows.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from concurrent.futures import ThreadPoolExecutor
 from typing import cast
 
 import cv2
@@ -25,6 +24,7 @@ from upperpose.features.change import colour_change
 from upperpose.features.checks import Frame, Mask
 from upperpose.features.config import FeatureConfig, PersonTemplate
 from upperpose.features.faces import FaceBox, FaceDetector, choose_face
+from upperpose.features.parallel import map_in_threads
 from upperpose.features.person_skin import skin_of_face
 from upperpose.features.skin import skin_mask
 
@@ -117,19 +117,16 @@ def grabcut_seed(shape: tuple[int, int], face: FaceBox, template: PersonTemplate
     return seed
 
 
-def _grabcut_votes(small: Frame, labels: Mask, config: FeatureConfig) -> npt.NDArray[np.int32]:
-    """How many of `config.bg_grabcut_runs` GrabCuts from fixed seeds call each pixel the person."""
-    votes = np.zeros(labels.shape, np.int32)
-    for run in range(config.bg_grabcut_runs):
-        cv2.setRNGSeed(run)
-        cut = labels.copy()
-        background_model = np.zeros((1, 65), np.float64)
-        person_model = np.zeros((1, 65), np.float64)
-        cv2.grabCut(  # type: ignore[call-overload]
-            small, cut, None, background_model, person_model, config.bg_grabcut_iterations, cv2.GC_INIT_WITH_MASK
-        )
-        votes += (cut == cv2.GC_FGD) | (cut == cv2.GC_PR_FGD)
-    return votes
+def _grabcut_once(small: Frame, labels: Mask, run: int, config: FeatureConfig) -> npt.NDArray[np.bool_]:
+    """Where one GrabCut, its k-means seeded with `run`, finds the person."""
+    cv2.setRNGSeed(run)  # this thread's generator
+    cut = labels.copy()
+    background_model = np.zeros((1, 65), np.float64)
+    person_model = np.zeros((1, 65), np.float64)
+    cv2.grabCut(  # type: ignore[call-overload]
+        small, cut, None, background_model, person_model, config.bg_grabcut_iterations, cv2.GC_INIT_WITH_MASK
+    )
+    return cast(npt.NDArray[np.bool_], (cut == cv2.GC_FGD) | (cut == cv2.GC_PR_FGD))
 
 
 def person_in_median(image: Frame, samples: Sequence[Frame], config: FeatureConfig) -> Mask | None:
@@ -231,13 +228,13 @@ def grabcut_person(image: Frame, seed: Mask, config: FeatureConfig) -> Mask | No
         return None
     # GrabCut seeds its colour models by k-means from OpenCV's per-thread random generator, and
     # the cut moves with that seed (01: IoU 0.77-0.91 over three seeds): a pixel is the person
-    # when most of `bg_grabcut_runs` cuts from fixed seeds say so. The cuts run in a thread of
-    # their own, so that seeding its generator leaves the caller's alone.
-    with ThreadPoolExecutor(1) as pool:
-        try:
-            votes = pool.submit(_grabcut_votes, small, labels, config).result()
-        except cv2.error:  # too few pixels for one of GrabCut's colour models
-            return None
+    # when most of `bg_grabcut_runs` cuts from fixed seeds say so. The cuts run in threads of
+    # their own, so that seeding their generators leaves the caller's alone.
+    try:
+        cuts = map_in_threads(lambda run: _grabcut_once(small, labels, run, config), range(config.bg_grabcut_runs))
+    except cv2.error:  # too few pixels for one of GrabCut's colour models
+        return None
+    votes = np.sum(cuts, axis=0)
     person = np.where(2 * votes > config.bg_grabcut_runs, 255, 0).astype(np.uint8)
     return cast(Mask, cv2.resize(person, (width, height), interpolation=cv2.INTER_NEAREST))
 
