@@ -273,7 +273,7 @@ def estimate_plate(lead: Sequence[Frame], samples: Sequence[Frame], config: Feat
     if lead:
         n = static_prefix(lead, config)
         if n >= max(3, len(lead) // 4):
-            plate = np.median(np.stack(lead[:n]), axis=0).astype(np.uint8)
+            plate = median_pair(np.stack(lead[:n]))[0]
             area = plate.shape[0] * plate.shape[1]
             changed = [cv2.countNonZero(colour_change(s, plate, config.bg_threshold)) / area for s in samples]
             someone_enters = max(changed, default=0.0) > 0.01
