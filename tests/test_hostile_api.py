@@ -120,6 +120,10 @@ def test_render_masks(pose: Any, root: Any, width: Any, height: Any, roi: Any) -
     masks = clean(lambda: upperpose.render_masks(pose, root, CAMERA, width, height, roi=roi))
     if masks is not None:
         assert masks["silhouette"].dtype == np.uint8 and masks["silhouette"].max(initial=0) <= 1
+    labels = clean(lambda: upperpose.render_labels(pose, root, CAMERA, width, height, roi=roi))
+    assert (labels is None) == (masks is None)  # the same arguments are refused
+    if masks is not None:
+        np.testing.assert_array_equal(labels, masks["labels"])
 
 
 @hostile

@@ -158,6 +158,21 @@ def test_masks_are_consistent_with_each_other(camera: upperpose.Camera) -> None:
     assert overlap.sum() > 100 and np.all(m["labels"][overlap] == forearm)
 
 
+@settings(max_examples=40, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1))
+def test_labels_alone_are_the_masks_labels(seed: int, camera: upperpose.Camera) -> None:
+    rng = np.random.default_rng(seed)
+    pose = random_pose(rng)
+    root = [rng.uniform(-0.3, 0.3), rng.uniform(-0.1, 0.3), rng.uniform(1.2, 3.5)]
+    x, y = int(rng.integers(0, 600)), int(rng.integers(0, 440))
+    for roi in (None, (x, y, int(rng.integers(1, 641 - x)), int(rng.integers(1, 481 - y)))):
+        labels = upperpose.render_labels(pose, root, camera, 640, 480, roi=roi)
+        masks = upperpose.render_masks(pose, root, camera, 640, 480, roi=roi)
+        assert labels.dtype == np.uint8
+        np.testing.assert_array_equal(labels, masks["labels"])
+    assert labels.shape == (roi[3], roi[2])
+
+
 def test_region_of_interest_crops_the_full_render(camera: upperpose.Camera) -> None:
     pose = upperpose.Pose.a_pose()
     full = upperpose.render_masks(pose, [0.0, 0.1, 2.2], camera, 640, 480)

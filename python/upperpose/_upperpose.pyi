@@ -22,6 +22,7 @@ __all__ = [
     "forward_kinematics",
     "joint_limits",
     "penetrates",
+    "render_labels",
     "render_masks",
     "skeleton",
     "solids",
@@ -152,6 +153,15 @@ def render_masks(
     height: int,
     roi: tuple[int, int, int, int] | None = None,
 ) -> dict[str, npt.NDArray[np.uint8]]: ...
+def render_labels(
+    pose: npt.NDArray[np.float64],
+    root: npt.NDArray[np.float64],
+    body: BodyModel,
+    camera: Camera,
+    width: int,
+    height: int,
+    roi: tuple[int, int, int, int] | None = None,
+) -> npt.NDArray[np.uint8]: ...
 
 @final
 class SearchConfig:

@@ -207,12 +207,37 @@ def render_masks(
         ValueError: bad shapes or values, or a region outside the image.
         TypeError: non-numeric pose or root.
     """
+    return _upperpose.render_masks(*_render_args(pose, root, camera, width, height, body), roi)
+
+
+def render_labels(
+    pose: PoseLike,
+    root: npt.ArrayLike,
+    camera: Camera,
+    width: int,
+    height: int,
+    body: BodyModel | None = None,
+    roi: tuple[int, int, int, int] | None = None,
+) -> npt.NDArray[np.uint8]:
+    """`render_masks(...)["labels"]` alone, several times cheaper: the tracker's per-frame need.
+
+    Returns:
+        `(h, w)` uint8: 0 for no part, `k + 1` where part `k` of `PART_NAMES` is the nearest.
+
+    Raises:
+        ValueError: bad shapes or values, or a region outside the image.
+        TypeError: non-numeric pose or root.
+    """
+    return _upperpose.render_labels(*_render_args(pose, root, camera, width, height, body), roi)
+
+
+def _render_args(
+    pose: PoseLike, root: npt.ArrayLike, camera: Camera, width: int, height: int, body: BodyModel | None
+) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64], BodyModel, Camera, int, int]:
     for name, v in (("width", width), ("height", height)):
         if not isinstance(v, (int, np.integer)) or isinstance(v, bool) or v <= 0:
             raise InputError(f"{name} must be a positive integer, got {v!r}")
-    return _upperpose.render_masks(
-        pose_array(pose), as_float_array(root, "root", (3,)), body or BodyModel(), camera, int(width), int(height), roi
-    )
+    return pose_array(pose), as_float_array(root, "root", (3,)), body or BodyModel(), camera, int(width), int(height)
 
 
 __all__ = [
@@ -229,6 +254,7 @@ __all__ = [
     "penetrates",
     "pose_array",
     "project",
+    "render_labels",
     "render_masks",
     "skeleton",
     "solids",

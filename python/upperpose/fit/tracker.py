@@ -54,7 +54,7 @@ from upperpose.model import (
     forward_kinematics,
     model_points,
     project,
-    render_masks,
+    render_labels,
 )
 from upperpose.result import NO_PERSON, TrackResult
 
@@ -544,8 +544,8 @@ class Tracker:
         height, width = self.size
         body = body or self.body
         if self._half_camera is None:
-            return render_masks(pose, root, self.camera, width, height, body)["labels"]
-        small = render_masks(pose, root, self._half_camera, (width + 1) // 2, (height + 1) // 2, body)["labels"]
+            return render_labels(pose, root, self.camera, width, height, body)
+        small = render_labels(pose, root, self._half_camera, (width + 1) // 2, (height + 1) // 2, body)
         return np.asarray(cv2.resize(small, (width, height), interpolation=cv2.INTER_NEAREST), dtype=np.uint8)
 
     def _reset_person(self) -> None:

@@ -67,6 +67,29 @@ impl BodyRaster {
         out
     }
 
+    /// Part labels, one byte per pixel of the region, row-major: 0 for no part, `k + 1` where
+    /// part `k` is the nearest covering the pixel (the labels of [`Self::visible`]). Painted
+    /// from the farthest part to the nearest straight from the spans: no masks are built.
+    pub fn labels(&self) -> Vec<u8> {
+        let width = self.roi.width as usize;
+        let mut labels = vec![0u8; width * self.roi.height as usize];
+        for &i in self.order.iter().rev() {
+            let spans = self.spans(Part::ALL[i]);
+            for (r, span) in spans.spans.iter().enumerate() {
+                if span.is_empty() {
+                    continue;
+                }
+                let row = (spans.y(r) - self.roi.y) as usize * width;
+                let (x0, x1) = (
+                    (span.x0 - self.roi.x) as usize,
+                    (span.x1 - self.roi.x) as usize,
+                );
+                labels[row + x0..row + x1].fill(i as u8 + 1);
+            }
+        }
+        labels
+    }
+
     /// The visible one-pixel contours of all parts, in part order: the part's own contour where
     /// no nearer part hides it.
     pub fn contours(&self) -> Vec<BitMask> {

@@ -157,3 +157,51 @@ fn body_behind_the_camera_draws_nothing() {
         assert_eq!(raster.union().count(), 0, "root at z = {z}");
     }
 }
+
+/// The labels as `visible` defines them: part `k + 1` where its visible mask is set.
+fn labels_from_visible(raster: &BodyRaster) -> Vec<u8> {
+    let roi = raster.roi;
+    let mut out = vec![0u8; roi.width as usize * roi.height as usize];
+    for (k, vis) in raster.visible().iter().enumerate() {
+        for y in 0..roi.height as i32 {
+            for x in 0..roi.width as i32 {
+                if vis.get(roi.x + x, roi.y + y) {
+                    out[y as usize * roi.width as usize + x as usize] = k as u8 + 1;
+                }
+            }
+        }
+    }
+    out
+}
+
+#[test]
+fn labels_are_the_visible_parts_over_random_poses_and_regions() {
+    let mut runner = TestRunner::new_with_rng(
+        Config {
+            cases: 200,
+            failure_persistence: None,
+            ..Config::default()
+        },
+        TestRng::deterministic_rng(RngAlgorithm::ChaCha),
+    );
+    let root =
+        (-0.3..0.3f64, -0.1..0.3f64, 1.2..4.0f64).prop_map(|(x, y, z)| Vector3::new(x, y, z));
+    let roi = (0..600i64, 0..440i64, 1..640i64, 1..480i64).prop_map(|(x, y, w, h)| {
+        Roi::inside(x, y, w.min(640 - x), h.min(480 - y), 640, 480).unwrap()
+    });
+    let result = runner.run(
+        &(pose_strategy(), root, camera_strategy(), roi),
+        |(pose, root, camera, roi)| {
+            let body = BodyModel::default();
+            let skel = skeleton_from_pose(&pose, &root, &body);
+            let raster = BodyRaster::new(&skel, &body, &camera, roi);
+            let labels = raster.labels();
+            prop_assert!(labels.iter().any(|&l| l > 0) || raster.union().count() == 0);
+            prop_assert_eq!(labels, labels_from_visible(&raster));
+            Ok(())
+        },
+    );
+    if let Err(e) = result {
+        panic!("{e}");
+    }
+}

@@ -31,6 +31,7 @@ fn _upperpose(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(kinematics::penetrates_py, m)?)?;
     m.add_function(wrap_pyfunction!(kinematics::joint_limits_py, m)?)?;
     m.add_function(wrap_pyfunction!(render::render_masks_py, m)?)?;
+    m.add_function(wrap_pyfunction!(render::render_labels_py, m)?)?;
     m.add_class::<search::PySearchConfig>()?;
     m.add_class::<search::PyFrameFit>()?;
     m.add_function(wrap_pyfunction!(search::fit_frame_bits_py, m)?)?;
