@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 import upperpose
+from upperpose.exceptions import InputError
 from upperpose.features.packing import pack_rows
 
 ROOT = np.array([0.02, 0.12, 2.2])
@@ -155,6 +156,16 @@ def test_same_seed_same_fit_for_1_and_2_threads(camera: upperpose.Camera, body: 
     for other in fits[1:]:
         np.testing.assert_array_equal(other.pose, fits[0].pose)
         assert other.cost == fits[0].cost
+
+
+@pytest.mark.parametrize("value", ["0", "two", "-1"])
+def test_a_bad_thread_count_in_the_environment_is_named(
+    value: str, camera: upperpose.Camera, body: upperpose.BodyModel, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setenv("UPPERPOSE_NUM_THREADS", value)
+    message = rf"^UPPERPOSE_NUM_THREADS must be a positive whole number, got \"{value}\"$"
+    with pytest.raises(InputError, match=message):
+        upperpose.fit_frame(ideal(WAVE, camera), WAVE, ROOT, body, camera)
 
 
 def test_fit_releases_the_gil(camera: upperpose.Camera, body: upperpose.BodyModel) -> None:

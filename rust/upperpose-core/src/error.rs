@@ -21,6 +21,13 @@ pub enum CoreError {
         expected: String,
         got: String,
     },
+    /// A setting (an environment variable, a resource) has a value that cannot be used.
+    #[error("{name} must be {expected}, got {got}")]
+    BadSetting {
+        name: &'static str,
+        expected: &'static str,
+        got: String,
+    },
     /// A region of interest is empty or does not overlap the image.
     #[error(
         "region of interest {roi:?} must be non-empty and lie inside the {width}x{height} image"

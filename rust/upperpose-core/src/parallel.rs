@@ -30,9 +30,9 @@ pub fn resolve_threads(requested: Option<usize>, particles: usize) -> Result<usi
     if let Ok(text) = std::env::var(THREADS_ENV) {
         return match text.trim().parse::<usize>() {
             Ok(n) if n > 0 => Ok(n),
-            _ => Err(CoreError::InvalidShape {
+            _ => Err(CoreError::BadSetting {
                 name: THREADS_ENV,
-                expected: "a positive whole number".into(),
+                expected: "a positive whole number",
                 got: format!("{text:?}"),
             }),
         };
@@ -56,9 +56,9 @@ pub fn pool(threads: usize) -> Result<Arc<ThreadPool>> {
         .num_threads(threads)
         .thread_name(|i| format!("upperpose-{i}"))
         .build()
-        .map_err(|e| CoreError::InvalidShape {
+        .map_err(|e| CoreError::BadSetting {
             name: "thread pool",
-            expected: "a pool that starts".into(),
+            expected: "able to start",
             got: e.to_string(),
         })?;
     let p = Arc::new(built);
