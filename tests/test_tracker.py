@@ -32,6 +32,7 @@ from upperpose.fit.startup import (
     root_from_head,
     widened,
 )
+from upperpose.fit.tracker import FACE_CHECK_REACH
 from upperpose.io.video import VideoReader
 from upperpose.model import model_points
 
@@ -741,6 +742,40 @@ def test_a_model_head_carried_off_the_face_is_put_back_under_it(
         assert np.hypot(*(head - face)) < 0.25 * width
     else:
         assert np.hypot(*(head - face)) > width
+
+
+class _SquareCountingDetector(FaceDetector):
+    """The real detector, keeping the reach of every square searched around the head."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.reaches: list[float] = []
+
+    def near(self, frame: np.ndarray, centre: object, width_px: float, reach: float) -> list:
+        self.reaches.append(reach)
+        return super().near(frame, centre, width_px, reach)
+
+
+@pytest.mark.parametrize("offset", [(0.0, 0.0), (0.3, -0.2), (0.0, 1.2), (-2.0, 0.5)])
+def test_the_face_check_finds_the_face_the_whole_square_finds(offset: tuple[float, float]) -> None:
+    # The model's head `offset` face widths from the face: on it (within the drift share, 0.5)
+    # only the small square around the head is searched; off it, the whole reach finds it.
+    folder = clip()
+    detector = _SquareCountingDetector()
+    with VideoReader(folder / "video.mp4") as reader:
+        frame = next(f for f in reader if detector(f))
+    box = detector(frame)[0]
+    face, width = face_centre(box), float(box[2])
+    head = face + width * np.asarray(offset)
+    plate = cv2.imread(str(folder / "background.png"))
+    tracker = Tracker(camera_of(folder), plate, fps=15.0, face_detector=detector)
+    found = tracker._faces_around_head(frame, head, width)
+    whole = FaceDetector().near(frame, head, width, FACE_CHECK_REACH)
+    assert found and whole
+    np.testing.assert_allclose(face_centre(found[0]), face, atol=0.15 * width)
+    np.testing.assert_allclose(face_centre(found[0]), face_centre(whole[0]), atol=0.15 * width)
+    on_head = bool(np.hypot(*offset) <= 0.5)
+    assert detector.reaches == ([1.5] if on_head else [1.5, FACE_CHECK_REACH])
 
 
 @pytest.mark.parametrize("bad", [{"face_check_frames": -1}, {"face_check_frames": 2.5}, {"face_drift_share": 0.0}])

@@ -387,11 +387,7 @@ class Tracker:
         if every <= 0 or index % every or width is None:
             return root
         head = project(self.camera, model_points(pose, root, self.body))[0]
-        near = getattr(self._detect_faces, "near", None)
-        if near is not None:
-            boxes = near(frame, head, width, FACE_CHECK_REACH)
-        else:  # an injected detector: the whole frame, then the same choice
-            boxes = faces_near(self._detect_faces(frame), head, width, FACE_CHECK_REACH)
+        boxes = self._faces_around_head(frame, head, width)
         if not boxes:
             self._face_away = None
             return root
@@ -404,6 +400,23 @@ class Tracker:
         confirmed = self._face_away is not None and np.hypot(*(centre - self._face_away)) <= 0.5 * width
         self._face_away = None if confirmed else centre
         return self._root.move_to_face(centre, pose) if confirmed else root
+
+    def _faces_around_head(self, frame: npt.NDArray[np.uint8], head: FloatArray, width: float) -> list[FaceBox]:
+        """The faces of the person's size within `FACE_CHECK_REACH` face widths of `head`, nearest first.
+
+        Most checks find the face where the head is. A square just large enough to hold that
+        face (its centre within the drift share, its half-width at the largest size, a margin)
+        is searched first, at about 40 % of the whole square's cost; the whole square only when
+        no face lies within the drift share.
+        """
+        near = getattr(self._detect_faces, "near", None)
+        if near is None:  # an injected detector: the whole frame, then the same choice
+            return faces_near(self._detect_faces(frame), head, width, FACE_CHECK_REACH)
+        drift = self.config.face_drift_share
+        on_head = near(frame, head, width, min(drift + 1.0, FACE_CHECK_REACH))
+        if on_head and np.hypot(*(face_centre(on_head[0]) - head)) <= drift * width:
+            return cast(list[FaceBox], on_head)
+        return cast(list[FaceBox], near(frame, head, width, FACE_CHECK_REACH))
 
     def _arm_scales(self, interval: float) -> FloatArray | None:
         """Per-angle window factors: each arm's windows grow with its last change.
