@@ -4,8 +4,11 @@ from __future__ import annotations
 
 import cv2
 import numpy as np
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from upperpose.features import FeatureConfig, find_skin_blobs, locate_points
+from upperpose.features.blobs import is_shade
 
 CONFIG = FeatureConfig()
 
@@ -255,6 +258,50 @@ def test_a_limb_that_differs_from_the_room_only_in_colour_is_kept() -> None:
     assert kept[0].gradient == 0.0
     assert find_skin_blobs(skin, edge, CONFIG) == []  # without I_sub: P_SB alone, as before
     assert find_skin_blobs(skin, edge, CONFIG.replace(blob_min_changed=1.1), sub) == []
+
+
+def test_a_shadow_on_skin_coloured_furniture_is_not_a_limb() -> None:
+    # Two orange cushions on a blue sofa, both skin-coloured. The person's shadow darkens the
+    # first to 0.85 of the plate (I_sub, no new edge); a bare forearm hangs in front of the
+    # second. The colour test alone keeps both; the shadow is a shade of the plate and goes.
+    plate = np.full((480, 640, 3), (150, 110, 90), np.uint8)
+    cv2.rectangle(plate, (100, 300), (160, 360), (84, 113, 155), -1)
+    cv2.rectangle(plate, (400, 280), (470, 420), (84, 113, 155), -1)
+    frame = plate.copy()
+    frame[300:361, 100:161] = np.round(plate[300:361, 100:161] * 0.85).astype(np.uint8)
+    cv2.rectangle(frame, (420, 300), (445, 400), (120, 150, 205), -1)
+    skin = np.zeros((480, 640), np.uint8)
+    cv2.rectangle(skin, (100, 300), (160, 360), 255, -1)
+    cv2.rectangle(skin, (420, 300), (445, 400), 255, -1)
+    sub, edge = skin.copy(), np.zeros_like(skin)
+    kept = find_skin_blobs(skin, edge, CONFIG, sub, frame, plate)
+    assert [b.bbox for b in kept] == [(420, 300, 26, 101)]
+    assert len(find_skin_blobs(skin, edge, CONFIG, sub)) == 2  # without the plate: colour alone
+    assert len(find_skin_blobs(skin, edge, CONFIG.replace(blob_shade_spread=0.0), sub, frame, plate)) == 2
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    colour=st.tuples(*[st.integers(60, 140)] * 3),
+    factor=st.floats(0.5, 1.2),
+    tint=st.floats(0.1, 0.5),
+    channel=st.integers(0, 2),
+)
+def test_a_shade_is_one_factor_on_every_channel(
+    colour: tuple[int, int, int], factor: float, tint: float, channel: int
+) -> None:
+    # The plate's colour times one factor is a shade (rounded to whole levels); one channel
+    # scaled `tint` more is a new colour.
+    plate = np.full((20, 30, 3), colour, np.uint8)
+    pixels = np.zeros((10, 12), np.uint8)
+    pixels[2:8, 3:9] = 255
+    shaded = np.round(plate * factor).astype(np.uint8)
+    assert is_shade(pixels, (5, 4), shaded, plate, CONFIG)
+    scale = np.full(3, factor)
+    scale[channel] *= 1.0 + tint
+    tinted = np.round(plate * scale).astype(np.uint8)
+    assert not is_shade(pixels, (5, 4), tinted, plate, CONFIG)
+    assert not is_shade(pixels, (5, 4), shaded, plate, CONFIG.replace(blob_shade_spread=0.0))
 
 
 def test_hand_leaving_the_face_does_not_push_the_head_onto_it() -> None:

@@ -9,7 +9,7 @@ import cv2
 import numpy as np
 import numpy.typing as npt
 
-from upperpose.features.checks import Mask
+from upperpose.features.checks import Frame, Mask
 from upperpose.features.config import FeatureConfig
 
 
@@ -72,14 +72,49 @@ def stands_out_in_colour(pixels: Mask, origin: tuple[int, int], sub: Mask, confi
     return room >= config.blob_min_room_outline * max(cv2.countNonZero(ring), 1)
 
 
-def find_skin_blobs(skin: Mask, edge: Mask, config: FeatureConfig, sub: Mask | None = None) -> list[SkinBlob]:
+def is_shade(pixels: Mask, origin: tuple[int, int], frame: Frame, plate: Frame, config: FeatureConfig) -> bool:
+    """Whether a blob's change from the plate is a shade: the plate's own colours, darker or lighter.
+
+    A shadow (or a lamp) on skin-coloured furniture changes its brightness but hardly its
+    colour: the frame's mean B, G, R over the blob are the plate's times nearly one factor
+    (their ratios spread by at most `blob_shade_spread` of their mean). A limb in front of
+    the furniture brings its own colour.
+
+    Args:
+        pixels: `(h, w)` uint8 blob pixels inside its bounding box.
+        origin: (x, y) of the bounding box's top-left corner in the image.
+        frame: `(H, W, 3)` uint8 BGR, in the plate's light.
+        plate: `(H, W, 3)` uint8 BGR background.
+        config: thresholds.
+    """
+    if config.blob_shade_spread <= 0:
+        return False
+    x, y = origin
+    h, w = pixels.shape
+    now = np.array(cv2.mean(frame[y : y + h, x : x + w], mask=pixels)[:3])
+    before = np.array(cv2.mean(plate[y : y + h, x : x + w], mask=pixels)[:3])
+    if before.min() < 1.0:
+        return False
+    ratios = now / before
+    return float(ratios.max() - ratios.min()) <= config.blob_shade_spread * float(ratios.mean())
+
+
+def find_skin_blobs(
+    skin: Mask,
+    edge: Mask,
+    config: FeatureConfig,
+    sub: Mask | None = None,
+    frame: Frame | None = None,
+    plate: Frame | None = None,
+) -> list[SkinBlob]:
     """The valid skin blobs of I_skin, largest first.
 
     A blob is an outer contour of `skin` filled (so that eyes and mouth do not split a face),
     intersected with `skin`. Blobs smaller than `blob_min_area` or with P_SB below
     `blob_min_gradient` are dropped: a static skin-coloured object that slipped through the
     background test has hardly any edge change on it. With `sub` given, a blob below that
-    P_SB is kept when it stands out from the room in colour (`stands_out_in_colour`).
+    P_SB is kept when it stands out from the room in colour (`stands_out_in_colour`), unless,
+    with `frame` and `plate` given, that change is only a shade of the plate (`is_shade`).
 
     Args:
         skin: `(H, W)` uint8 I_skin, nonzero = skin.
@@ -87,6 +122,8 @@ def find_skin_blobs(skin: Mask, edge: Mask, config: FeatureConfig, sub: Mask | N
             that the blob's outline edges, just outside its skin pixels, count).
         config: thresholds.
         sub: `(H, W)` uint8 I_sub, or None for P_SB alone.
+        frame: `(H, W, 3)` uint8 BGR, in the plate's light, for `is_shade`; None skips that test.
+        plate: `(H, W, 3)` uint8 BGR background, for `is_shade`; None skips that test.
 
     Returns:
         Valid blobs sorted by area, largest first.
@@ -106,7 +143,9 @@ def find_skin_blobs(skin: Mask, edge: Mask, config: FeatureConfig, sub: Mask | N
         on_edge = cv2.countNonZero(cv2.bitwise_and(pixels, edge[y : y + h, x : x + w]))
         gradient = on_edge / area
         if gradient < config.blob_min_gradient and not (
-            sub is not None and stands_out_in_colour(pixels, (x, y), sub, config)
+            sub is not None
+            and stands_out_in_colour(pixels, (x, y), sub, config)
+            and not (frame is not None and plate is not None and is_shade(pixels, (x, y), frame, plate, config))
         ):
             continue
         blobs.append(blob_from_pixels(pixels, (x, y), gradient, cast(npt.NDArray[np.int32], contour)))

@@ -214,6 +214,11 @@ class FeatureConfig:
     """Skin blobs: for that, at least this share of a `blob_ring`-pixel ring around the blob
     must be outside I_sub (the room, not more of the person)."""
 
+    blob_shade_spread: float = 0.04
+    """Skin blobs: a blob kept only by its colour change is dropped when that change is a shade
+    of the plate, its B, G, R each the plate's times factors that spread by at most this share
+    of their mean (a shadow on skin-coloured furniture; features/blobs.py `is_shade`). 0: never."""
+
     blob_ring: int = 2
     """Skin blobs: width in pixels of the ring around a blob checked against I_sub."""
 
@@ -446,6 +451,7 @@ class FeatureConfig:
             "blob_ring",
             "blob_min_changed",
             "blob_min_room_outline",
+            "blob_shade_spread",
             "part_min_share",
         ):
             if getattr(self, name) < 0:

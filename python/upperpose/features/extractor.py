@@ -378,7 +378,7 @@ class FeatureExtractor:
         clock.lap("dilate")
         # P_SB counts edges within a pixel of the blob: its outline edges lie in a band that the
         # skin mask, shrunk by colour blending and its opening, often stops just short of.
-        blobs = find_skin_blobs(skin, edge_dilated, cfg, sub)
+        blobs = find_skin_blobs(skin, edge_dilated, cfg, sub, relit, plate)
         matching = None
         if joints is not None:
             blobs, matching = split_head_from_hands(blobs, relit, joints, cfg)
