@@ -341,6 +341,9 @@ def test_grabcut_seed_nests_its_regions() -> None:
         ("bg_face_min_skin", 1.5),
         ("blob_min_changed", -0.1),
         ("blob_ring", -1),
+        ("blob_shade_spread", -0.01),
+        ("blob_shade_spread", float("nan")),
+        ("blob_min_room_outline", float("nan")),
     ],
 )
 def test_person_cut_settings_are_checked(field, value) -> None:

@@ -454,7 +454,7 @@ class FeatureConfig:
             "blob_shade_spread",
             "part_min_share",
         ):
-            if getattr(self, name) < 0:
+            if not getattr(self, name) >= 0:  # NaN too
                 raise InputError(f"{name} must be >= 0, got {getattr(self, name)}")
         if self.edge_blur > 1 and self.edge_blur % 2 == 0:
             raise InputError(f"edge_blur must be odd, got {self.edge_blur}")
