@@ -142,12 +142,12 @@ def find_skin_blobs(
             continue
         on_edge = cv2.countNonZero(cv2.bitwise_and(pixels, edge[y : y + h, x : x + w]))
         gradient = on_edge / area
-        if gradient < config.blob_min_gradient and not (
-            sub is not None
-            and stands_out_in_colour(pixels, (x, y), sub, config)
-            and not (frame is not None and plate is not None and is_shade(pixels, (x, y), frame, plate, config))
-        ):
-            continue
+        if gradient < config.blob_min_gradient:
+            by_colour = sub is not None and stands_out_in_colour(pixels, (x, y), sub, config)
+            if not by_colour or (
+                frame is not None and plate is not None and is_shade(pixels, (x, y), frame, plate, config)
+            ):
+                continue
         blobs.append(blob_from_pixels(pixels, (x, y), gradient, cast(npt.NDArray[np.int32], contour)))
     blobs.sort(key=lambda b: -b.area)
     return blobs

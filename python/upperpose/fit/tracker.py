@@ -413,7 +413,9 @@ class Tracker:
         if near is None:  # an injected detector: the whole frame, then the same choice
             return faces_near(self._detect_faces(frame), head, width, FACE_CHECK_REACH)
         drift = self.config.face_drift_share
-        on_head = near(frame, head, width, min(drift + 1.0, FACE_CHECK_REACH))
+        if drift + 1.0 >= FACE_CHECK_REACH:  # the small square would be the whole one
+            return cast(list[FaceBox], near(frame, head, width, FACE_CHECK_REACH))
+        on_head = near(frame, head, width, drift + 1.0)
         if on_head and np.hypot(*(face_centre(on_head[0]) - head)) <= drift * width:
             return cast(list[FaceBox], on_head)
         return cast(list[FaceBox], near(frame, head, width, FACE_CHECK_REACH))
