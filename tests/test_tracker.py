@@ -11,14 +11,20 @@ import pytest
 
 import upperpose
 from tracker_helpers import PART_ANGLES, TruthFitter, camera_of, clip, truth
-from upperpose.features import SkinBlob
+from upperpose.features import Background, FeatureExtractor, SkinBlob
 from upperpose.features.blobs import blob_from_pixels
 from upperpose.features.faces import FaceDetector
 from upperpose.features.packing import pack_rows
 from upperpose.features.points import SkinPoint
 from upperpose.fit import INITIALISING, LOST, NO_PERSON, PARTS, TRACKED, StateMachine, StaticFit, Tracker, TrackerConfig
 from upperpose.fit.reach import ArmReach
-from upperpose.fit.recovery import DoubtDetector, HandFollower, LostDetector, unexplained_by_side
+from upperpose.fit.recovery import (
+    DoubtDetector,
+    HandFollower,
+    LostDetector,
+    hands_on_followed_points,
+    unexplained_by_side,
+)
 from upperpose.fit.root import SETTLED, RootEstimator
 from upperpose.fit.startup import (
     HAND_REACH_FACES,
@@ -279,6 +285,44 @@ def test_mean_shift_follows_a_skin_blob() -> None:
     assert np.hypot(*(centre - [200.0, 150.0])) < 3.0
     follower.stop("right_arm")
     assert follower.step(skin) == {}
+
+
+def test_mean_shift_kept_off_the_face_stays_on_the_hand_beside_it() -> None:
+    # A hand at the ear touches the face; the window starts between them. On the whole skin
+    # image it climbs onto the face and stays there; with the face's disc left out it sits on
+    # the hand and goes with it when the hand moves off.
+    face, hand, moved = (160, 100), (186, 118), (194, 132)
+
+    def skin_with_hand_at(xy: tuple[int, int]) -> np.ndarray:
+        skin = np.zeros((240, 320), np.uint8)
+        cv2.circle(skin, face, 20, 255, -1)
+        cv2.circle(skin, xy, 9, 255, -1)
+        return skin
+
+    ends = {}
+    for kept_off in (False, True):
+        follower = HandFollower(window_side=0.5)
+        follower.start("right_arm", (178.0, 110.0), shoulder_px=80.0)
+        disc = (face, 20.0) if kept_off else None
+        at_ear = follower.step(skin_with_hand_at(hand), disc)["right_arm"]
+        ends[kept_off] = (at_ear, follower.step(skin_with_hand_at(moved), disc)["right_arm"])
+    assert np.hypot(*(ends[False][0] - face)) < 1.0 and np.hypot(*(ends[False][1] - face)) < 1.0
+    assert np.hypot(*(ends[True][0] - hand)) < 1.0 and np.hypot(*(ends[True][1] - moved)) < 1.0
+
+
+def test_a_followed_hand_merged_with_the_head_is_put_at_its_followed_point() -> None:
+    plate = np.zeros((48, 64, 3), np.uint8)
+    features = FeatureExtractor(Background.from_plate(plate))(plate)
+    head = SkinPoint((30.0, 12.0), True, 0)
+    on_face = SkinPoint((30.0, 12.0), True, 0, (36.0, 10.0, 44.0, 20.0))
+    together = SkinPoint((20.0, 40.0), True, 1)  # merged with the other hand, not the head
+    features = dataclasses.replace(features, head=head, right_hand=on_face, left_hand=together)
+    followed = {"right_arm": np.array([41.0, 15.0]), "left_arm": np.array([18.0, 38.0])}
+    out = hands_on_followed_points(features, followed)
+    assert out.right_hand == SkinPoint((41.0, 15.0), False, 0)
+    assert out.left_hand is together and out.head is head
+    assert hands_on_followed_points(features, {}) is features
+    assert hands_on_followed_points(dataclasses.replace(features, head=None), followed).right_hand is on_face
 
 
 class _Rendered:

@@ -6,18 +6,20 @@ merged with another part or absent (no evidence either way). A lost arm is searc
 anatomical ranges until its hand is near its skin point again. Meanwhile the hand is followed by
 mean shift on the skin image (the thesis follows each arm by mean shift between frames); its
 position is the hand's predicted point for the next frame's blob matching, so that the skin term
-pulls the searched arm back onto the hand.
+pulls the searched arm back onto the hand. The follower is kept off the face, and a followed
+hand merged with the face is put at the follower's point (`hands_on_followed_points`).
 """
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 
 import cv2
 import numpy as np
 import numpy.typing as npt
 
-from upperpose.features import FrameFeatures
+from upperpose.features import FrameFeatures, SkinPoint
 
 ARMS = ("right_arm", "left_arm")
 HAND_JOINT = {"right_arm": 5, "left_arm": 6}
@@ -178,6 +180,31 @@ def unexplained_by_side(
     return {"right_arm": int(np.count_nonzero(loose[:, :split])), "left_arm": int(np.count_nonzero(loose[:, split:]))}
 
 
+def hands_on_followed_points(features: FrameFeatures, followed: dict[str, npt.NDArray[np.float64]]) -> FrameFeatures:
+    """`features` with each followed hand that is merged with the head put at its followed point.
+
+    A hand merged with the face says only that it is somewhere on the face's blob, and a lost
+    arm then has no point to be found again on. The follower, kept off the face
+    (`HandFollower.step`), sits on the hand beside it (at the ear, on the cheek).
+
+    Args:
+        features: the frame's features.
+        followed: arm -> the follower's point, pixels (`HandFollower.step`).
+    """
+    head = features.head
+
+    def placed(arm: str, point: SkinPoint | None) -> SkinPoint | None:
+        xy = followed.get(arm)
+        if xy is None or head is None or point is None or not point.merged or point.blob != head.blob:
+            return point
+        return SkinPoint((float(xy[0]), float(xy[1])), False, point.blob)
+
+    right, left = placed("right_arm", features.right_hand), placed("left_arm", features.left_hand)
+    if right is features.right_hand and left is features.left_hand:
+        return features
+    return dataclasses.replace(features, right_hand=right, left_hand=left)
+
+
 class HandFollower:
     """Mean shift of a window over the skin image, one window per lost hand.
 
@@ -201,8 +228,20 @@ class HandFollower:
         """Stops following `arm`."""
         self.windows.pop(arm, None)
 
-    def step(self, skin: npt.NDArray[np.uint8]) -> dict[str, npt.NDArray[np.float64]]:
-        """Moves each window to the local mode of the skin image; returns arm -> centre (x, y)."""
+    def step(
+        self, skin: npt.NDArray[np.uint8], face: tuple[npt.ArrayLike, float] | None = None
+    ) -> dict[str, npt.NDArray[np.float64]]:
+        """Moves each window to the local mode of the skin image; returns arm -> centre (x, y).
+
+        `face`: centre (x, y) and radius in pixels of a disc left out of the skin image. A
+        window that reached the face would otherwise stay on it, the largest patch of skin
+        around, after the hand has moved away.
+        """
+        if face is not None:
+            centre, radius = face
+            fx, fy = (int(round(v)) for v in np.asarray(centre, dtype=np.float64))
+            skin = skin.copy()
+            cv2.circle(skin, (fx, fy), max(int(round(radius)), 1), 0, -1)
         height, width = skin.shape
         out = {}
         for arm, (x, y, w, h) in list(self.windows.items()):
@@ -228,5 +267,6 @@ __all__ = [
     "LostDetector",
     "far_hands",
     "hand_distances",
+    "hands_on_followed_points",
     "unexplained_by_side",
 ]

@@ -38,6 +38,7 @@ from upperpose.fit.recovery import (
     HandFollower,
     LostDetector,
     hand_distances,
+    hands_on_followed_points,
     unexplained_by_side,
 )
 from upperpose.fit.root import RootEstimator
@@ -337,7 +338,8 @@ class Tracker:
         predicted_joints = project(self.camera, model_points(prediction, self._root.root, self.body))
         for arm, xy in self._followed.items():
             predicted_joints[HAND_JOINT[arm]] = xy
-        features = self._features = self._extractor(frame, predicted_joints, self._labels)
+        features = self._extractor(frame, predicted_joints, self._labels)
+        features = self._features = hands_on_followed_points(features, self._followed)
         root = self._root.update(features, prediction, self._last_root)
         root = self._keep_head_on_face(frame, index, prediction, root)
         t1 = time.perf_counter()
@@ -502,7 +504,11 @@ class Tracker:
                 self._follow.start(arm, start, shoulder_px)
             elif not lost[arm]:
                 self._follow.stop(arm)
-        self._followed = self._follow.step(features.skin) if self._follow.windows else {}
+        if self._follow.windows:
+            face_px = self.body.head_radii[0] * pixels_per_metre(self.camera, float(root[2]))
+            self._followed = self._follow.step(features.skin, (joints_2d[0], face_px))
+        else:
+            self._followed = {}
         for k in (1, 2):
             if np.all(np.isfinite(points[k])):
                 self._last_points[k] = points[k]

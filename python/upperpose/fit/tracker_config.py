@@ -65,7 +65,8 @@ class TrackerConfig:
             windows widened by this factor.
         startup_width_scales: the torso and shoulder widths tried at start-up, as factors of
             the adult averages; the fit with the lowest cost is kept (a model of the wrong
-            width fits best turned, and then stays turned). Empty: the averages.
+            width fits best turned, and then stays turned); up to 1.35, since on long sleeves
+            the cost chose the widest of a ladder that ended at 1.2. Empty: the averages.
         startup_head_scales: then the head's height above the shoulders, as factors of the
             averages besides 1 (the width's fit), at the chosen width; the fit whose torso
             stage costs least is kept (the face box's depth is about 10 % off, which leaves
@@ -137,7 +138,7 @@ class TrackerConfig:
     velocity_damping: float = 0.7
     recovery_window_scale: float = 2.0
     startup_window_scale: float = 3.0
-    startup_width_scales: tuple[float, ...] = (0.75, 0.8, 0.85, 0.9, 0.95, 1.0, 1.05, 1.1, 1.15, 1.2)
+    startup_width_scales: tuple[float, ...] = (0.75, 0.8, 0.85, 0.9, 0.95, 1.0, 1.05, 1.1, 1.15, 1.2, 1.25, 1.3, 1.35)
     startup_head_scales: tuple[float, ...] = (0.95, 1.05)
     startup_frontal: bool = False
     velocity_window_gain: float = 0.5

@@ -40,6 +40,9 @@ ARMS: dict[str, Key] = {
     "clap_in": {"y_up": 0.47, "x_up": 0.47, "z_up": 0.32, "x_down": 1.61},
     "clap_out": {"y_up": 0.01, "x_up": 0.08, "z_up": 0.17, "x_down": 1.94},
     "point": {"y_up": 0.0, "x_up": 1.5, "z_up": 0.12, "x_down": 0.05},
+    # Elbow forwards and down, the palm against the cheek beside the jaw (the default body's
+    # hand 8 cm out from the face's centre and 6 cm below it).
+    "phone": {"y_up": 0.0, "x_up": 1.66, "z_up": 0.51, "x_down": 2.49},
 }
 # Safe sub-ranges for the random walk (radians): arms stay clear of the trunk.
 WALK_RANGES = {"y_up": (-0.8, 0.8), "x_up": (-0.3, 1.6), "z_up": (0.25, 1.8), "x_down": (0.0, 1.8)}
@@ -137,6 +140,12 @@ def _hand_to_head(rng: np.random.Generator, body: BodyModel) -> Keys:
     return _cycle(a, [(1.1, right), (hold, right), (1.0, a), (1.1, left), (hold, left)])
 
 
+def _phone(rng: np.random.Generator, body: BodyModel) -> Keys:
+    a = _pose(A_ARM, A_ARM)
+    call = _pose(ARMS["phone"], REST_ARM)
+    return _cycle(a, [(1.1, call), (rng.uniform(1.2, 1.6), call), (1.0, a)])
+
+
 def _cross(rng: np.random.Generator, body: BodyModel) -> Keys:
     # The right forearm goes in first and leaves last, so the left one passes in front of it
     # both ways; moving together, the forearms would pass through each other.
@@ -216,6 +225,7 @@ MOTIONS: dict[str, Script] = {
     "clap": _clap,
     "point": _point,
     "hand_to_head": _hand_to_head,
+    "phone": _phone,
     "random_walk": _random_walk,
 }
 MOTION_DESCRIPTIONS = {
@@ -227,6 +237,7 @@ MOTION_DESCRIPTIONS = {
     "clap": "claps in front of the chest",
     "point": "points at the camera with one hand, then the other",
     "hand_to_head": "puts one hand on the head, then the other",
+    "phone": "holds a (mimed) phone to the right ear",
     "random_walk": "moves slowly and randomly through the joint space",
 }
 
