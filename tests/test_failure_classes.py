@@ -130,7 +130,7 @@ def test_a_hand_held_to_the_ear_is_put_there_and_found_back_down() -> None:
     true, fit, _ = tracked("phone")
     err = errors(true, fit)
     # Judged where the hand holds still (raising and lowering it take a third of a second at
-    # 15 fps): against the cheek, 11-14 cm from the head's centre, its skin merges with the face's.
+    # 15 fps): against the cheek, 9-14 cm from the head's centre, its skin merges with the face's.
     still = np.r_[False, np.linalg.norm(np.diff(true[:, R_HAND], axis=0), axis=-1) < 0.5]
     at_ear = still & (np.linalg.norm(true[:, R_HAND] - true[:, HEAD], axis=-1) <= 0.15 * PX_PER_M)
     assert at_ear.sum() >= 10
