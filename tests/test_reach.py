@@ -10,7 +10,11 @@ import pytest
 
 import upperpose
 from upperpose.features import FeatureConfig, SkinPoint, find_skin_blobs
-from upperpose.fit.reach import ARM_ANGLES, ARM_JOINTS, ArmReach, hand_target, unexplained
+from upperpose.fit import StaticFit, TrackerConfig
+from upperpose.fit.arm_corrections import ArmCorrections
+from upperpose.fit.fitter import FrameSearch
+from upperpose.fit.reach import ARM_ANGLES, ARM_JOINTS, ArmReach, hand_target, shared_blob_ends, unexplained
+from upperpose.fit.search import SearchConfig
 from upperpose.model import model_points, penetrates
 
 BODY = upperpose.BodyModel()
@@ -166,3 +170,109 @@ def test_a_target_either_fitted_hand_explains_is_not_reached_for() -> None:
     assert not unexplained(MODEL, (380.0, 300.0), 20.0)  # the other hand is there: maybe its point
     assert unexplained(MODEL, (320.0, 380.0), 20.0)
     assert not unexplained(MODEL, (320.0, 380.0), 120.0)  # 111 px from either hand
+
+
+def _both_hands_on(blobs, x: float, y: float) -> tuple:  # type: ignore[no-untyped-def]
+    """Skin points: the head on the face's blob, both hands merged on the blob nearest (x, y)."""
+    head, hands = _blob_at(blobs, 320, 100), _blob_at(blobs, x, y)
+    return (SkinPoint(blobs[head].centroid, False, head),) + (SkinPoint(blobs[hands].centroid, True, hands),) * 2
+
+
+def test_a_blob_both_hands_share_gives_its_two_ends() -> None:
+    # Forearms crossed in front of the belly: one bar of skin from (230, 300) to (410, 320), 24 px
+    # thick, both hands' points merged at its centre. MODEL's shoulders are 100 px apart, so each
+    # end is the centroid of the last 50 px of the bar: 25 px in from its tip along the bar.
+    def bar(skin):
+        cv2.line(skin, (230, 300), (410, 320), 255, 24)
+
+    def shared(b):
+        return _both_hands_on(b, 320, 310)
+
+    features = _features([face, bar], shared)
+    ends = shared_blob_ends(features, MODEL)  # type: ignore[arg-type]
+    along = np.array([180.0, 20.0]) / np.hypot(180.0, 20.0)
+    tips = sorted(ends, key=lambda e: e[0])
+    assert len(ends) == 2
+    assert np.hypot(*(tips[0] - (np.array([230.0, 300.0]) + 13.0 * along))) < 5.0
+    assert np.hypot(*(tips[1] - (np.array([410.0, 320.0]) - 13.0 * along))) < 5.0
+    # Not for hands on blobs of their own, a blob the head shares, or a blob with no long axis.
+    separate = _features(
+        [face, bar, lambda skin: cv2.circle(skin, (420, 400), 18, 255, -1)],
+        lambda b: (
+            None,
+            SkinPoint((0.0, 0.0), False, _blob_at(b, 320, 310)),
+            SkinPoint((0.0, 0.0), False, _blob_at(b, 420, 400)),
+        ),
+    )
+    assert shared_blob_ends(separate, MODEL) == []  # type: ignore[arg-type]
+    with_head = _features([face, bar], lambda b: (SkinPoint((0.0, 0.0), True, _blob_at(b, 320, 310)),) + shared(b)[1:])
+    assert shared_blob_ends(with_head, MODEL) == []  # type: ignore[arg-type]
+    round_blob = _features([face, lambda skin: cv2.circle(skin, (320, 310), 40, 255, -1)], shared)
+    assert shared_blob_ends(round_blob, MODEL) == []  # type: ignore[arg-type]
+
+
+class _HandTargetFitter:
+    """A search double: a pose costs 0.5 plus each model hand's pixel distance from its target,
+    over 100; a search returns the prediction unchanged (the seed is the result), or with the
+    searched arms' angles taken from `found` when given."""
+
+    def __init__(self, targets: np.ndarray, found: np.ndarray | None = None) -> None:
+        self.targets, self.found = targets, found
+
+    def __call__(self, features, prediction, root, body, camera, **kw):  # type: ignore[no-untyped-def]
+        pose, r = np.array(prediction, dtype=np.float64), np.array(root, dtype=np.float64)
+        for arm in kw["search"] if self.found is not None else ():
+            pose[ARM_ANGLES[arm]] = self.found[ARM_ANGLES[arm]]
+        hands = upperpose.project(camera, model_points(pose, r, body))[[5, 6]]
+        cost = 0.5 + float(np.hypot(*(hands - self.targets).T).sum()) / 100.0
+        joints = upperpose.forward_kinematics(pose, r, body)
+        return StaticFit(pose, r, joints, upperpose.project(camera, joints), cost)
+
+
+@pytest.mark.parametrize("case", ["crossed", "as_fitted", "elbow_moved"])
+def test_the_free_end_of_a_blob_both_hands_share_is_reached_when_that_costs_less(case: str) -> None:
+    # Both fitted hands lie at the right end of a bar of skin that both hands' points share (the
+    # matching gave both hands the bar). "crossed": the cost puts the left hand at the free left
+    # end, across the body, and that arm is sought there, its elbow kept. "as_fitted": the cost
+    # prefers the hands where they are: nothing moves. "elbow_moved": the search ends with the
+    # hand at the free end but the elbow more than half a shoulder width from the fit's (as a
+    # hand put at the far end of forearms lying side by side, at their elbows, would): refused
+    # however much less it costs.
+    root = np.array([0.0, 0.1, 2.2])
+    hands_end, free_end = np.array([350.0, 300.0]), np.array([270.0, 300.0])
+    start = np.zeros(13)
+    for arm in ("right_arm", "left_arm"):
+        start = REACH.candidates(arm, start, root, CAMERA, hands_end, 1, 15.0, 1.0)[0]
+    assert not penetrates(start, root, BODY)
+    fitted = upperpose.project(CAMERA, model_points(start, root, BODY))
+    sw = float(np.hypot(*(fitted[1] - fitted[2])))
+    # The bar's ends' centroids lie a quarter shoulder width in from its tips
+    # (`shared_blob_ends`, half a shoulder width long).
+    tip = 0.25 * sw - 10.0
+
+    def bar(skin):
+        cv2.line(skin, (round(free_end[0] - tip), 300), (round(hands_end[0] + tip), 300), 255, 20)
+
+    features = _features([face, bar], lambda b: _both_hands_on(b, 310, 300))
+    ends = sorted(shared_blob_ends(features, fitted), key=lambda e: e[0])  # type: ignore[arg-type]
+    assert np.hypot(*(ends[0] - free_end)) < 4.0 and np.hypot(*(ends[1] - hands_end)) < 4.0
+    found = None
+    if case == "elbow_moved":  # the hand at the free end, the elbow raised a shoulder width
+        away = fitted[4] + np.array([0.0, -sw])
+        found = REACH.candidates("left_arm", start, root, CAMERA, free_end, 1, 15.0, 1.0, near_elbow=away)[0]
+        moved_elbow = upperpose.project(CAMERA, model_points(found, root, BODY))[4] - fitted[4]
+        assert np.hypot(*moved_elbow) > 0.5 * sw
+    targets = np.array([hands_end, hands_end if case == "as_fitted" else free_end])
+    search = FrameSearch(_HandTargetFitter(targets, found), BODY, CAMERA, SearchConfig(), 0, 1 / 30)  # type: ignore[arg-type]
+    fit = search.run(features, start, root, "initial", ())  # type: ignore[arg-type]
+    if found is not None:  # cheaper, so only the elbow's move refuses it
+        assert search.fair_cost(features, found, root) < fit.cost  # type: ignore[arg-type]
+    kept, moved = ArmCorrections(TrackerConfig())._reach_free_end(features, fit, search)  # type: ignore[arg-type]
+    joints = upperpose.project(CAMERA, model_points(np.asarray(kept.pose), root, BODY))
+    if case == "crossed":
+        assert moved == ["left_arm"]
+        assert np.hypot(*(joints[6] - free_end)) < 0.5 * sw
+        assert np.hypot(*(joints[4] - fitted[4])) <= 0.5 * sw
+        assert np.allclose(np.asarray(kept.pose)[:8], start[:8])  # torso and right arm kept
+    else:
+        assert moved == [] and kept is fit

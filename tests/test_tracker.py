@@ -40,7 +40,7 @@ from upperpose.fit.startup import (
 )
 from upperpose.fit.tracker import FACE_CHECK_REACH
 from upperpose.io.video import VideoReader
-from upperpose.model import model_points
+from upperpose.model import model_points, penetrates
 
 # -- pure units -------------------------------------------------------------------------------
 
@@ -711,7 +711,10 @@ def test_crossed_arms_on_swapped_hand_points_are_untangled_when_that_costs_less(
     reach = ArmReach(tracker.body)
     crossed = truth_pose.copy()
     for arm, point in (("right_arm", features.left_hand), ("left_arm", features.right_hand)):  # type: ignore[attr-defined]
-        crossed = reach.candidates(arm, crossed, root, tracker.camera, point.xy, 1, 60.0, 1.0)[0]
+        # A fit never has an arm through the other (the search rejects it): the first candidate
+        # that has not.
+        options = reach.candidates(arm, crossed, root, tracker.camera, point.xy, 12, 60.0, 1.0)
+        crossed = next(c for c in options if not penetrates(c, root, tracker.body))
     swapped = dataclasses.replace(features, right_hand=features.left_hand, left_hand=features.right_hand)  # type: ignore[arg-type,attr-defined]
     tracker._fitter = LabelledFitter(gt, truth_pose if truth_cheaper else crossed)
     joints = upperpose.forward_kinematics(crossed, root, tracker.body)
@@ -722,6 +725,37 @@ def test_crossed_arms_on_swapped_hand_points_are_untangled_when_that_costs_less(
         assert labels.right_hand is features.right_hand  # type: ignore[attr-defined]
     else:
         assert kept is fit and labels is swapped and moved == ()
+
+
+def test_a_pose_the_search_rejects_is_never_the_cheaper_by_fair_cost(gt: dict) -> None:
+    # The fitter scores an unsearched arm stage whose arm goes through the torso or the other arm
+    # as 0 (the stage has no terms): compared as it is, such a pose would beat every real one.
+    folder = clip()
+    plate = cv2.imread(str(folder / "background.png"))
+    tracker = FeatureKeeper(camera_of(folder), plate, TrackerConfig(skip_static=False), fps=15.0)
+    with VideoReader(folder / "video.mp4") as reader:
+        for i, frame in enumerate(reader):
+            tracker.update(frame)
+            if i == 40:
+                break
+    features, root = tracker.kept[40], np.asarray(tracker._last_root)
+    search = tracker._frame_search(40, 1 / 15)
+    truth_pose = np.asarray(gt["frames"][40]["angles"], dtype=np.float64)
+    assert not penetrates(truth_pose, root, tracker.body)
+    rng = np.random.default_rng(0)
+    low, high = np.array([ranges[0] for ranges in upperpose.joint_limits()]).T
+    arm = PART_ANGLES["left_arm"]
+    through = truth_pose.copy()
+    for _ in range(1000):  # random left arms until one passes through the body
+        through[arm] = rng.uniform(low[arm], high[arm])
+        if penetrates(through, root, tracker.body):
+            break
+    assert penetrates(through, root, tracker.body)
+    raw = search.run(features, through, root, "initial", ())  # type: ignore[arg-type]
+    assert raw.stage_costs["left_arm"] == 0.0
+    assert search.fair_cost(features, through, root) == np.inf  # type: ignore[arg-type]
+    scored = float(search.run(features, truth_pose, root, "initial", ()).cost)  # type: ignore[arg-type]
+    assert np.isfinite(scored) and search.fair_cost(features, truth_pose, root) == scored  # type: ignore[arg-type]
 
 
 def test_move_to_face_puts_the_model_head_on_the_face_and_forgets_the_velocity() -> None:

@@ -2,9 +2,10 @@
 
 In turn: lost or doubted arms (`recovery.py` detects them) are searched over their anatomical
 ranges (§3.4.9); an arm whose hand is far from its skin evidence is sought from that evidence
-(`reach.py`); crossed hands are tried with their skin points' labels swapped. A correction is
-taken only when it costs less in the same image regions (`FrameSearch.fair_cost`) and, where
-the hand is the evidence, brings the hand nearer it. See docs/tracker.md.
+(`reach.py`), and when both hands share one blob, from its end that no hand explains; crossed
+hands are tried with their skin points' labels swapped. A correction is taken only when it
+costs less in the same image regions (`FrameSearch.fair_cost`) and, where the hand is the
+evidence, brings the hand nearer it. See docs/tracker.md.
 """
 
 from __future__ import annotations
@@ -16,7 +17,7 @@ import numpy.typing as npt
 
 from upperpose.features import FrameFeatures
 from upperpose.fit.fitter import FitLike, FrameSearch
-from upperpose.fit.reach import ARM_JOINTS, ArmReach, hand_target, unexplained
+from upperpose.fit.reach import ARM_JOINTS, ArmReach, hand_target, shared_blob_ends, unexplained
 from upperpose.fit.recovery import ARMS, HAND_JOINT, HAND_POINT
 from upperpose.fit.tracker_config import TrackerConfig
 from upperpose.model import BodyModel, Camera, model_points, project
@@ -126,7 +127,46 @@ class ArmCorrections:
             if found_fair < fair and np.hypot(*(found_hand - target)) < np.hypot(*(hands[HAND_JOINT[arm]] - target)):
                 fit, fair = found, found_fair
                 moved.append(arm)
+        if not moved:
+            fit, moved_to_end = self._reach_free_end(features, fit, search)
+            moved += moved_to_end
         return fit, tuple(moved)
+
+    def _reach_free_end(self, features: FrameFeatures, fit: FitLike, search: FrameSearch) -> tuple[FitLike, list[str]]:
+        """When both hands share one blob and one of its ends has no hand near, seeks either arm there.
+
+        Crossed forearms make one blob; the matching gives both hands its centre, and the model
+        keeps each hand on its own side, both hands then at one end (`shared_blob_ends`). Each
+        arm is sought from the tabulated pose that puts its hand at the free end and keeps its
+        elbow nearest where it is (the forearm swung across), and must end with its elbow within
+        `reach_share` shoulder widths of the fit's: forearms side by side also make one blob,
+        whose other end is their elbows. The cheaper in the same regions wins, if it costs less
+        than the fit.
+        """
+        camera, body, root = search.camera, search.body, np.asarray(fit.root)
+        pose = np.asarray(fit.pose)
+        joints = project(camera, model_points(pose, root, body))
+        shoulder_px = max(float(np.hypot(*(joints[1] - joints[2]))), 10.0)
+        limit = self.config.reach_share * shoulder_px
+        free = [end for end in shared_blob_ends(features, joints) if unexplained(joints, end, limit)]
+        if len(free) != 1:
+            return fit, []
+        if self._reach is None:
+            self._reach = ArmReach(body)
+        best, best_fair, moved = fit, search.fair_cost(features, pose, root), []
+        for arm in ARMS:
+            elbow = ARM_JOINTS[arm][0]
+            seeds = self._reach.candidates(
+                arm, pose, root, camera, free[0], 1, limit, 0.15 * shoulder_px, near_elbow=joints[elbow]
+            )
+            if not seeds:
+                continue
+            found = search.run(features, seeds[0], root, "trajectory", (arm,), self.config.recovery_window_scale)
+            found_fair = search.fair_cost(features, np.asarray(found.pose), root)
+            found_elbow = project(camera, model_points(np.asarray(found.pose), root, body))[elbow]
+            if found_fair < best_fair and float(np.hypot(*(found_elbow - joints[elbow]))) <= limit:
+                best, best_fair, moved = found, found_fair, [arm]
+        return best, moved
 
     def untangle_hands(
         self, features: FrameFeatures, fit: FitLike, search: FrameSearch

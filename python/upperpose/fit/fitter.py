@@ -7,6 +7,7 @@ corrections all call it the same way.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any, Protocol
@@ -16,7 +17,7 @@ import numpy.typing as npt
 
 from upperpose.features import FrameFeatures
 from upperpose.fit.search import Mode, SearchConfig
-from upperpose.model import BodyModel, Camera
+from upperpose.model import BodyModel, Camera, penetrates
 
 FloatArray = npt.NDArray[np.float64]
 PARTS = ("torso", "right_arm", "left_arm")
@@ -108,7 +109,13 @@ class FrameSearch:
         )
 
     def fair_cost(self, features: FrameFeatures, pose: FloatArray, root: FloatArray) -> float:
-        """A pose's cost unsearched, in the full-range search's regions: comparable between poses."""
+        """A pose's cost unsearched, in the full-range search's regions: comparable between poses.
+
+        Infinite for a pose the search rejects (an arm through the torso or the other arm),
+        whose stage the fitter scores 0.
+        """
+        if self.config.non_penetration and penetrates(pose, root, self.body):
+            return math.inf
         return float(self.run(features, pose, root, "initial", ()).cost)
 
 

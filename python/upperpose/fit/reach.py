@@ -190,6 +190,25 @@ def hand_target(
     return np.asarray(far_end(blob, direction, hand_length * shoulder_px), dtype=np.float64)
 
 
+def shared_blob_ends(features: FrameFeatures, model_2d: npt.ArrayLike, hand_length: float = 0.5) -> list[FloatArray]:
+    """The two ends of a skin blob both hands share and the head does not, pixels; [] otherwise.
+
+    Forearms crossed or held side by side make one blob whose hand points say nothing of where
+    the hands are in it; its ends along its long axis (`hand_length` shoulder widths long, as
+    the matching measures hands) are where hands can be. [] when the blob is not elongated.
+    """
+    head, right, left = features.points
+    if right is None or left is None or right.blob != left.blob or (head is not None and head.blob == right.blob):
+        return []
+    blob = features.blobs[right.blob]
+    axis = principal_direction(blob)
+    if axis is None:
+        return []
+    points = np.asarray(model_2d, dtype=np.float64)
+    length = hand_length * float(np.hypot(*(points[1] - points[2])))
+    return [np.asarray(far_end(blob, direction, length), dtype=np.float64) for direction in (axis, -axis)]
+
+
 def unexplained(model_2d: npt.ArrayLike, target: npt.ArrayLike, radius_px: float) -> bool:
     """Whether neither fitted hand (`model_2d`, pixels) lies within `radius_px` of an arm's target.
 
@@ -202,4 +221,4 @@ def unexplained(model_2d: npt.ArrayLike, target: npt.ArrayLike, radius_px: float
     return bool(np.all(gaps > radius_px))
 
 
-__all__ = ["ARM_ANGLES", "ARM_JOINTS", "GRID", "ArmReach", "hand_target", "unexplained"]
+__all__ = ["ARM_ANGLES", "ARM_JOINTS", "GRID", "ArmReach", "hand_target", "shared_blob_ends", "unexplained"]
