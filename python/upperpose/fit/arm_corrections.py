@@ -101,6 +101,7 @@ class ArmCorrections:
     ) -> tuple[FitLike, tuple[str, ...]]:
         """Seeks each arm whose hand is far from its skin evidence from that evidence.
 
+        When neither moved, the free end of a blob both hands share (`_reach_free_end`).
         Returns the fit to keep and the arms it moved.
         """
         cfg = self.config
