@@ -505,8 +505,8 @@ class Tracker:
             elif not lost[arm]:
                 self._follow.stop(arm)
         if self._follow.windows:
-            face_px = self.body.head_radii[0] * pixels_per_metre(self.camera, float(root[2]))
-            self._followed = self._follow.step(features.skin, (joints_2d[0], face_px))
+            face_radius_px = self.body.head_radii[0] * pixels_per_metre(self.camera, float(root[2]))
+            self._followed = self._follow.step(features.skin, (joints_2d[0], face_radius_px))
         else:
             self._followed = {}
         for k in (1, 2):

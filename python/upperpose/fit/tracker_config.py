@@ -65,8 +65,8 @@ class TrackerConfig:
             windows widened by this factor.
         startup_width_scales: the torso and shoulder widths tried at start-up, as factors of
             the adult averages; the fit with the lowest cost is kept (a model of the wrong
-            width fits best turned, and then stays turned); up to 1.35, since on long sleeves
-            the cost chose the widest of a ladder that ended at 1.2. Empty: the averages.
+            width fits best turned, and then stays turned); up to 1.35, as wide as a person in
+            long sleeves looks to the cost. Empty: the averages.
         startup_head_scales: then the head's height above the shoulders, as factors of the
             averages besides 1 (the width's fit), at the chosen width; the fit whose torso
             stage costs least is kept (the face box's depth is about 10 % off, which leaves
