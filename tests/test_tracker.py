@@ -181,6 +181,11 @@ def _walk(estimator: RootEstimator, pose: np.ndarray, sizes: list[tuple[float, f
     return depths
 
 
+def _ramp(frame: int, frames: int) -> float:
+    """0 over the first ten frames after start-up (the head blob's reference is taken), then up to 1 over `frames`."""
+    return min(max(frame - 10, 0), frames) / frames
+
+
 def test_a_head_blob_widened_by_hair_still_measures_depth() -> None:
     # Blond hair passes the skin rule: the head's blob is 1.3 face widths wide at start-up.
     camera = upperpose.Camera.for_image(640, 480)
@@ -188,7 +193,7 @@ def test_a_head_blob_widened_by_hair_still_measures_depth() -> None:
     root = root_from_head(camera, [320.0, 150.0], 2.0, pose, body)
     estimator = RootEstimator(camera, body, root, 65.0, 70.0, head_size_px=50.0)
     # Steps from 2.0 m to 1.5 m over a second: the blob grows from 65 x 70 to 87 x 93 px.
-    scales = [2.0 / (2.0 - 0.5 * min(k, 30) / 30) for k in range(90)]
+    scales = [2.0 / (2.0 - 0.5 * _ramp(k, 30)) for k in range(100)]
     _walk(estimator, pose, [(65.0 * f, 70.0 * f) for f in scales])
     assert estimator.depth == pytest.approx(1.5, rel=SETTLED + 0.01)
 
@@ -210,20 +215,48 @@ def test_depth_holds_while_the_head_turns() -> None:
     assert depths == [2.0] * 60
 
 
+def test_depth_holds_when_the_start_up_blob_was_not_the_heads_usual_size() -> None:
+    # The start-up frame's head blob is 34 x 52 px; from the next frame on (the skin colour learnt
+    # from the face) it is 56 x 78 px, with the person in place: the reference is the blobs' median.
+    camera = upperpose.Camera.for_image(640, 480)
+    body, pose = upperpose.BodyModel(), upperpose.Pose().angles
+    root = root_from_head(camera, [320.0, 150.0], 2.0, pose, body)
+    estimator = RootEstimator(camera, body, root, 34.0, 52.0, head_size_px=50.0)
+    depths = _walk(estimator, pose, [(56.0, 78.0)] * 60)
+    assert depths == [2.0] * 60
+    # Taken from that one frame, the reference would have brought the person 40 % nearer.
+    single = RootEstimator(camera, body, root, 34.0, 52.0, head_size_px=50.0, reference_frames=1)
+    assert _walk(single, pose, [(56.0, 78.0)] * 60)[-1] < 1.4
+
+
+def test_depth_holds_when_the_head_blob_changes_shape() -> None:
+    # A head bowed towards the camera: its skin blob shrinks to 30 x 22 px from 50 x 60, both
+    # measures saying "farther", but a step back would keep the blob's shape and this one is
+    # squat; taken as a depth, the person would be put 1.5 times farther away or more.
+    camera = upperpose.Camera.for_image(640, 480)
+    body, pose = upperpose.BodyModel(), upperpose.Pose().angles
+    root = root_from_head(camera, [320.0, 150.0], 2.0, pose, body)
+    sizes = [(50.0, 60.0)] * 5 + [(30.0, 22.0)] * 60
+    estimator = RootEstimator(camera, body, root, 50.0, 60.0, head_size_px=50.0)
+    assert _walk(estimator, pose, sizes) == [2.0] * 65
+    any_shape = RootEstimator(camera, body, root, 50.0, 60.0, head_size_px=50.0, max_shape_change=10.0)
+    assert _walk(any_shape, pose, sizes)[-1] > 3.0
+
+
 def test_depth_follows_a_quick_step_closer_through_noise() -> None:
     # From 2.0 m to 1.5 m in three frames, the blob's size noisy by up to 6 % either way.
     estimator, _, _, pose = _root_estimator()
     rng = np.random.default_rng(3)
-    scales = [2.0 / (2.0 - 0.5 * min(k, 3) / 3) for k in range(90)]
+    scales = [2.0 / (2.0 - 0.5 * _ramp(k, 3)) for k in range(100)]
     noisy = [(50.0 * f * rng.uniform(0.94, 1.06), 60.0 * f * rng.uniform(0.94, 1.06)) for f in scales]
     depths = _walk(estimator, pose, noisy)
-    assert depths[2] == 2.0  # not within a frame or two: the median of five must agree first
+    assert depths[12] == 2.0  # not within a frame or two: the median of five must agree first
     assert depths[-1] == pytest.approx(1.5, rel=SETTLED + 0.03)
 
 
 def test_depth_follows_a_step_back_then_holds() -> None:
     estimator, _, _, pose = _root_estimator()
-    scales = [2.0 / (2.0 + 0.6 * min(k, 15) / 15) for k in range(150)]
+    scales = [2.0 / (2.0 + 0.6 * _ramp(k, 15)) for k in range(160)]
     depths = _walk(estimator, pose, [(50.0 * f, 60.0 * f) for f in scales])
     assert depths[-1] == pytest.approx(2.6, rel=SETTLED + 0.01)
     assert len(set(depths[-20:])) == 1  # settled: no creeping after

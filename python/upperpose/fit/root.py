@@ -1,14 +1,19 @@
 """The root's 3D position per frame (SPEC 2), in place of the thesis' pixel scale matrix (§3.4.7).
 
-Depth: start-up's, held until the head's skin blob says the person stepped closer or back. Each
-frame the blob's width and its height, compared with start-up's, each give a depth
-(Z = Z0 * w0 / w); the held depth moves only when the medians of the last five of both lie more
-than `depth_deadband` from it on the same side, and then follows them until it is within
-`SETTLED` of them. The blob's size wobbles by far more than a person's depth changes while they
-stand (a head turning widens it and shortens it; hair, a hand near the face, lighting), so
-following it frame by frame is further from the truth than holding. A subject who steps closer
-therefore changes depth, never body size. Measurements are rejected when the head blob is merged
-with a hand or its width changes by more than `max_jump` from last frame's. X and Y: the head
+Depth: start-up's, held until the head's skin blob says the person stepped closer or back. The
+blob's reference size (w0, h0) is the median of its first `reference_frames` measurements, the
+start-up frame's included: a single frame's blob can be a head's width off (the skin colour
+learnt from the face at start-up grows it on the next frames; a turn of the head shrinks it),
+and every later depth is measured against it. Then each frame the blob's width and its height
+each give a depth (Z = Z0 * w0 / w); the held depth moves only when the medians of the last five
+of both lie more than `depth_deadband` from it on the same side, and then follows them until it
+is within `SETTLED` of them. The blob's size wobbles by far more than a person's depth changes
+while they stand (a head turning widens it and shortens it; hair, a hand near the face,
+lighting), so following it frame by frame is further from the truth than holding. A subject who
+steps closer therefore changes depth, never body size. Measurements are rejected when the head
+blob is merged with a hand, its width changes by more than `max_jump` from last frame's, or its
+shape (width over height) differs from the reference's by more than `max_shape_change`: a step
+keeps the blob's shape, a bowed head or a hand joining it does not. X and Y: the head
 point (only when its blob is about a head's size: a hand on the head that the matching did not
 see would drag it, and a scrap of skin taken for the head while a hand covers the face would
 drop it) back-projected at that depth, minus the head's offset from the root at the predicted
@@ -44,8 +49,8 @@ class RootEstimator:
         camera: the camera.
         body: the person's body model.
         root: the root at start-up (metres, camera frame).
-        head_blob_width: width in pixels of the head's skin blob at start-up (None: depth stays).
-        head_blob_height: its height in pixels (None: depth stays).
+        head_blob_width: width in pixels of the head's skin blob at start-up (None: not seen).
+        head_blob_height: its height in pixels (None: not seen).
         head_bias: the head point's offset in pixels from the true head centre at start-up.
         head_size_px: the head's width in pixels at start-up (the face box), to reject head
             blobs that hold more than a head; `head_blob_width` when None.
@@ -61,6 +66,11 @@ class RootEstimator:
             0.4 of its width a frame).
         confirm_jumps: measurements in a row, each within `xy_gate` of the one before, after
             which they are accepted however far from the expected root.
+        reference_frames: head blob measurements (start-up's first) whose median is the
+            reference size; the depth holds until there are that many. Without a head size
+            (`head_size_px` and `head_blob_width` None) the depth always holds.
+        max_shape_change: largest accepted relative change of the head blob's width over height
+            from the reference's.
     """
 
     def __init__(
@@ -79,16 +89,24 @@ class RootEstimator:
         min_head_share: float = 0.5,
         xy_gate: float = 0.5,
         confirm_jumps: int = 3,
+        reference_frames: int = 5,
+        max_shape_change: float = 0.25,
     ) -> None:
         self.camera, self.body = camera, body
         self.root = np.array(root, dtype=np.float64)
         self._z0 = float(self.root[2])
-        self._w0 = head_blob_width
-        self._h0 = head_blob_height
         self._size0 = head_blob_width if head_size_px is None else head_size_px
+        # The head blob's first sizes, until their median becomes the reference (w0, h0).
+        self._first: list[tuple[float, float]] = []
+        if head_blob_width is not None and head_blob_height is not None:
+            self._first.append((float(head_blob_width), float(head_blob_height)))
+        self._reference_frames = max(reference_frames, 1)
+        self._w0: float | None = None
+        self._h0: float | None = None
+        self._take_reference()
         self._bias = np.asarray(head_bias, dtype=np.float64)
         self._depth_gain, self._xy_gain, self._max_jump = depth_gain, xy_gain, max_jump
-        self._deadband = depth_deadband
+        self._deadband, self._max_shape_change = depth_deadband, max_shape_change
         self._min_head_share, self._confirm_jumps = min_head_share, confirm_jumps
         # The gate in metres: the head's width at start-up times `xy_gate`.
         self._gate_m = xy_gate * (self._size0 or 0.0) / pixels_per_metre(camera, self._z0)
@@ -141,7 +159,7 @@ class RootEstimator:
         face = self._at_depth(self._size0)
         # Hair that passes the skin rule widens the head's blob past the face: the widest
         # allowed is the blob's own width at start-up, if wider than the face.
-        widest = self._at_depth(max(self._size0, self._w0 or 0.0))
+        widest = self._at_depth(max(self._size0, self._reference_width()))
         # The held depth may be up to the deadband off before it moves.
         slack = 1.0 + self._deadband
         small = self._min_head_share * face / slack
@@ -167,13 +185,30 @@ class RootEstimator:
         near = float(np.hypot(*(measured - self._expected))) <= self._gate_m
         return near or len(self._run) >= self._confirm_jumps
 
+    def _reference_width(self) -> float:
+        """The head blob's reference width, or the median of its first widths while they are taken (0: none)."""
+        if self._w0 is not None:
+            return self._w0
+        return float(np.median([w for w, _ in self._first])) if self._first else 0.0
+
+    def _take_reference(self) -> None:
+        """Fixes the reference size once enough first sizes are in."""
+        if self._w0 is None and len(self._first) >= self._reference_frames:
+            self._w0, self._h0 = (float(v) for v in np.median(self._first, axis=0))
+
     def _update_depth(self, features: FrameFeatures) -> None:
         head = features.head
-        if self._w0 is None or self._h0 is None or head is None:
+        if self._size0 is None or head is None:
             return
         _, _, width, height = features.blobs[head.blob].bbox
         last, self._last_width = self._last_width, float(width)
         if last is not None and not abs(width / last - 1.0) <= self._max_jump:
+            return
+        if self._w0 is None or self._h0 is None:
+            self._first.append((float(width), float(height)))
+            self._take_reference()
+            return
+        if not abs((width / height) / (self._w0 / self._h0) - 1.0) <= self._max_shape_change:
             return
         self._by_width.append(self._z0 * self._w0 / width)
         self._by_height.append(self._z0 * self._h0 / height)
