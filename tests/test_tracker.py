@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import dataclasses
 from types import SimpleNamespace
+from typing import Any
 
 import cv2
 import numpy as np
@@ -181,6 +182,14 @@ def _walk(estimator: RootEstimator, pose: np.ndarray, sizes: list[tuple[float, f
     return depths
 
 
+def _estimator_for_blob(width: float, height: float, **settings: Any) -> RootEstimator:
+    """A root estimator started at 2 m with a 50 px face and a head blob of `width` x `height` px."""
+    camera = upperpose.Camera.for_image(640, 480)
+    body = upperpose.BodyModel()
+    root = root_from_head(camera, [320.0, 150.0], 2.0, upperpose.Pose().angles, body)
+    return RootEstimator(camera, body, root, width, height, head_size_px=50.0, **settings)
+
+
 def _ramp(frame: int, frames: int) -> float:
     """0 over the first ten frames after start-up (the head blob's reference is taken), then up to 1 over `frames`."""
     return min(max(frame - 10, 0), frames) / frames
@@ -188,10 +197,7 @@ def _ramp(frame: int, frames: int) -> float:
 
 def test_a_head_blob_widened_by_hair_still_measures_depth() -> None:
     # Blond hair passes the skin rule: the head's blob is 1.3 face widths wide at start-up.
-    camera = upperpose.Camera.for_image(640, 480)
-    body, pose = upperpose.BodyModel(), upperpose.Pose().angles
-    root = root_from_head(camera, [320.0, 150.0], 2.0, pose, body)
-    estimator = RootEstimator(camera, body, root, 65.0, 70.0, head_size_px=50.0)
+    estimator, pose = _estimator_for_blob(65.0, 70.0), upperpose.Pose().angles
     # Steps from 2.0 m to 1.5 m over a second: the blob grows from 65 x 70 to 87 x 93 px.
     scales = [2.0 / (2.0 - 0.5 * _ramp(k, 30)) for k in range(100)]
     _walk(estimator, pose, [(65.0 * f, 70.0 * f) for f in scales])
@@ -218,14 +224,11 @@ def test_depth_holds_while_the_head_turns() -> None:
 def test_depth_holds_when_the_start_up_blob_was_not_the_heads_usual_size() -> None:
     # The start-up frame's head blob is 34 x 52 px; from the next frame on (the skin colour learnt
     # from the face) it is 56 x 78 px, with the person in place: the reference is the blobs' median.
-    camera = upperpose.Camera.for_image(640, 480)
-    body, pose = upperpose.BodyModel(), upperpose.Pose().angles
-    root = root_from_head(camera, [320.0, 150.0], 2.0, pose, body)
-    estimator = RootEstimator(camera, body, root, 34.0, 52.0, head_size_px=50.0)
-    depths = _walk(estimator, pose, [(56.0, 78.0)] * 60)
+    pose = upperpose.Pose().angles
+    depths = _walk(_estimator_for_blob(34.0, 52.0), pose, [(56.0, 78.0)] * 60)
     assert depths == [2.0] * 60
     # Taken from that one frame, the reference would have brought the person 40 % nearer.
-    single = RootEstimator(camera, body, root, 34.0, 52.0, head_size_px=50.0, reference_frames=1)
+    single = _estimator_for_blob(34.0, 52.0, reference_frames=1)
     assert _walk(single, pose, [(56.0, 78.0)] * 60)[-1] < 1.4
 
 
@@ -233,13 +236,10 @@ def test_depth_holds_when_the_head_blob_changes_shape() -> None:
     # A head bowed towards the camera: its skin blob shrinks to 30 x 22 px from 50 x 60, both
     # measures saying "farther", but a step back would keep the blob's shape and this one is
     # squat; taken as a depth, the person would be put 1.5 times farther away or more.
-    camera = upperpose.Camera.for_image(640, 480)
-    body, pose = upperpose.BodyModel(), upperpose.Pose().angles
-    root = root_from_head(camera, [320.0, 150.0], 2.0, pose, body)
+    pose = upperpose.Pose().angles
     sizes = [(50.0, 60.0)] * 5 + [(30.0, 22.0)] * 60
-    estimator = RootEstimator(camera, body, root, 50.0, 60.0, head_size_px=50.0)
-    assert _walk(estimator, pose, sizes) == [2.0] * 65
-    any_shape = RootEstimator(camera, body, root, 50.0, 60.0, head_size_px=50.0, max_shape_change=10.0)
+    assert _walk(_estimator_for_blob(50.0, 60.0), pose, sizes) == [2.0] * 65
+    any_shape = _estimator_for_blob(50.0, 60.0, max_shape_change=10.0)
     assert _walk(any_shape, pose, sizes)[-1] > 3.0
 
 

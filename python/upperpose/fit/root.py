@@ -101,8 +101,7 @@ class RootEstimator:
         if head_blob_width is not None and head_blob_height is not None:
             self._first.append((float(head_blob_width), float(head_blob_height)))
         self._reference_frames = max(reference_frames, 1)
-        self._w0: float | None = None
-        self._h0: float | None = None
+        self._reference: tuple[float, float] | None = None
         self._take_reference()
         self._bias = np.asarray(head_bias, dtype=np.float64)
         self._depth_gain, self._xy_gain, self._max_jump = depth_gain, xy_gain, max_jump
@@ -187,14 +186,15 @@ class RootEstimator:
 
     def _reference_width(self) -> float:
         """The head blob's reference width, or the median of its first widths while they are taken (0: none)."""
-        if self._w0 is not None:
-            return self._w0
+        if self._reference is not None:
+            return self._reference[0]
         return float(np.median([w for w, _ in self._first])) if self._first else 0.0
 
     def _take_reference(self) -> None:
         """Fixes the reference size once enough first sizes are in."""
-        if self._w0 is None and len(self._first) >= self._reference_frames:
-            self._w0, self._h0 = (float(v) for v in np.median(self._first, axis=0))
+        if self._reference is None and len(self._first) >= self._reference_frames:
+            w0, h0 = np.median(self._first, axis=0)
+            self._reference = (float(w0), float(h0))
 
     def _update_depth(self, features: FrameFeatures) -> None:
         head = features.head
@@ -204,14 +204,15 @@ class RootEstimator:
         last, self._last_width = self._last_width, float(width)
         if last is not None and not abs(width / last - 1.0) <= self._max_jump:
             return
-        if self._w0 is None or self._h0 is None:
+        if self._reference is None:
             self._first.append((float(width), float(height)))
             self._take_reference()
             return
-        if not abs((width / height) / (self._w0 / self._h0) - 1.0) <= self._max_shape_change:
+        w0, h0 = self._reference
+        if not abs((width / height) / (w0 / h0) - 1.0) <= self._max_shape_change:
             return
-        self._by_width.append(self._z0 * self._w0 / width)
-        self._by_height.append(self._z0 * self._h0 / height)
+        self._by_width.append(self._z0 * w0 / width)
+        self._by_height.append(self._z0 * h0 / height)
         z_width, z_height = float(np.median(self._by_width)), float(np.median(self._by_height))
         if not self._following:
             # Both beyond the deadband, on the same side: the person stepped closer or back.
