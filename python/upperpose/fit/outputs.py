@@ -76,7 +76,7 @@ def smoothing_record(smooth: bool) -> tuple[int, dict[str, object] | None]:
     """The smoother's lag and the pose file's description of it (None: not smoothed)."""
     if not smooth:
         return 0, None
-    method = "local quadratic, tricube weights, centred, in angle space"
+    method = "local quadratic, tricube weights, centred (one-sided at the ends of a run), in angle space"
     return DEFAULT_LAG, {"method": method, "lag_frames": DEFAULT_LAG}
 
 

@@ -1,4 +1,4 @@
-"""Smoothing the tracked poses in angle space, without lag: a centred fixed-lag smoother.
+"""Smoothing the tracked poses in angle space, without lag: a fixed-lag local quadratic smoother.
 
 Each frame's 13 angles and root are replaced by the value at that frame of a weighted
 least-squares quadratic through the frames up to `lag` before and after it, within the run of
@@ -6,10 +6,11 @@ consecutive frames that have a pose; the weights fall off with the distance in f
 tricube kernel `(1 - (|k| / (lag + 1))^3)^3` (as in LOESS), which damps the frame-to-frame
 jitter more than equal weights do at the same window and still passes quadratic motion
 unchanged. The joints are then recomputed from the smoothed angles (forward kinematics and
-projection), so bone lengths stay the body's. A centred window has no lag; the price is that a
-frame's smoothed pose is known `lag` frames later, so a live run's outputs trail the camera by
-`lag` frames. Near the ends of a run the window shrinks symmetrically (at the very first and
-last frame of a run the pose is kept as it is).
+projection), so bone lengths stay the body's. The quadratic has no lag for any window, so near
+the ends of a run the window keeps the frames it has on either side (one-sided at the first and
+last frame) rather than shrinking to the shorter side: the ends are smoothed as well. The price
+of the centred window is that a frame's smoothed pose is known `lag` frames later, so a live
+run's outputs trail the camera by `lag` frames.
 """
 
 from __future__ import annotations
@@ -32,19 +33,21 @@ DEFAULT_LAG = 6
 MAX_LAG = 30
 
 
-def centre_weights(half: int) -> FloatArray:
-    """Weights of the centre value of a tricube-weighted least-squares quadratic over 2 * half + 1 points.
+def window_weights(before: int, after: int, lag: int) -> FloatArray:
+    """Weights giving frame 0's value of a tricube-weighted least-squares fit over `-before..after`.
 
-    half 0 keeps the value; half 1 is the plain mean of three (a quadratic through three points
-    would fit them exactly, so a line is fitted instead).
+    The kernel reaches `lag + 1` frames. A quadratic through four or more frames; through three,
+    a line (a quadratic would pass through them, keeping the noise); one or two frames keep the
+    frame's own value.
     """
-    if half == 0:
-        return np.ones(1)
-    if half == 1:
-        return np.full(3, 1.0 / 3.0)
-    k = np.arange(-half, half + 1, dtype=float)
-    kernel = (1.0 - (np.abs(k) / (half + 1)) ** 3) ** 3
-    basis = np.stack([np.ones_like(k), k, k * k], axis=1)
+    count = before + after + 1
+    if count <= 2:
+        kept: FloatArray = np.eye(count)[before]
+        return kept
+    k = np.arange(-before, after + 1, dtype=float)
+    kernel = (1.0 - (np.abs(k) / (lag + 1)) ** 3) ** 3
+    degree = 2 if count >= 4 else 1
+    basis = np.stack([k**d for d in range(degree + 1)], axis=1)
     # The fitted value at k = 0 is the first coefficient of the weighted normal equations' solution.
     weights: FloatArray = np.linalg.solve(basis.T @ (kernel[:, None] * basis), basis.T * kernel)[0]
     return weights
@@ -93,16 +96,16 @@ class PoseSmoother(Generic[T]):
         result, body, payload = self._pending.popleft()
         past = list(self._past)
         future = [(r, b) for r, b, _ in self._pending]
-        half = min(self.lag, len(past), len(future))
-        window = [*past[len(past) - half :], (result, body), *future[:half]]
+        before, after = min(self.lag, len(past)), min(self.lag, len(future))
+        window = [*past[len(past) - before :], (result, body), *future[:after]]
         self._past.append((result, body))
-        return self._smoothed(window, half), payload
+        return self._smoothed(window, before, after), payload
 
-    def _smoothed(self, window: list[tuple[TrackResult, BodyModel]], half: int) -> TrackResult:
-        result, body = window[half]
-        if half == 0:
+    def _smoothed(self, window: list[tuple[TrackResult, BodyModel]], before: int, after: int) -> TrackResult:
+        result, body = window[before]
+        if before + after < 2:
             return result
-        w = centre_weights(half)
+        w = window_weights(before, after, self.lag)
         pose = w @ np.array([np.asarray(r.pose, dtype=float) for r, _ in window])
         root = w @ np.array([np.asarray(r.root, dtype=float) for r, _ in window])
         joints_3d = forward_kinematics(pose, root, body)
@@ -111,4 +114,4 @@ class PoseSmoother(Generic[T]):
         )
 
 
-__all__ = ["DEFAULT_LAG", "MAX_LAG", "PoseSmoother", "centre_weights", "has_pose"]
+__all__ = ["DEFAULT_LAG", "MAX_LAG", "PoseSmoother", "has_pose", "window_weights"]
