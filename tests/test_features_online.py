@@ -12,9 +12,9 @@ from tests.tracker_helpers import TruthFitter, camera_of, clip, clip_frames, tru
 
 import upperpose
 from upperpose.exceptions import InputError
-from upperpose.features import CleanPlateWarning, FeatureConfig
+from upperpose.features import Background, CleanPlateWarning, FeatureConfig
 from upperpose.features.online import OnlineBackground, body_region
-from upperpose.fit import Tracker
+from upperpose.fit import Tracker, TrackerConfig
 from upperpose.fit.pipeline import load_background
 from upperpose.lab.feature_scene import render_scene, textured_background
 from upperpose.model import Pose
@@ -162,3 +162,58 @@ def test_the_tracker_learns_the_room_and_tracks_without_a_plate() -> None:
     wrong = (error(tracker.background.plate, plate) > threshold).mean()
     compressed = (error(clip_frames(folder)[0], plate) > threshold).mean()  # the video's own loss
     assert wrong < compressed + 0.01, (wrong, compressed)
+
+
+def ghosted(plate: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """`plate` with a shirt-coloured patch in its top-left corner (a ghost of the person), and
+    the patch's mask."""
+    ghost = np.zeros(plate.shape[:2], bool)
+    ghost[10:50, 10:60] = True
+    out = plate.copy()
+    out[ghost] = (40, 160, 200)
+    return out, ghost
+
+
+def test_an_estimated_plate_goes_on_learning_and_its_ghost_fades() -> None:
+    plate = textured_background(H, W, seed=9)
+    start, ghost = ghosted(plate)
+    config = FeatureConfig()
+    estimate = Background.from_plate(start, config, estimated=True, method="masked median")
+    model = OnlineBackground.from_estimate(estimate)
+    assert model.background.method == "masked median, refined while tracking"
+    np.testing.assert_array_equal(model.background.plate, start)
+    assert model.unseen == 0.0
+    person = np.zeros((H, W), np.uint8)
+    person[100:200, 140:200] = 255
+    person[30:40, 10:60] = 255  # the person stands over the ghost's lower rows
+    changed = ghost.astype(np.uint8) * np.uint8(255)
+    for _ in range(30):
+        model.learn(plate, person, changed=changed)
+    # Frames that differ from the estimate move it at the change rate from the first frame on
+    # (the estimate is not young): the ghost fades as 0.9^n; under the person it stays.
+    held = cv2.dilate(person, np.ones((2 * config.bg_online_margin + 1,) * 2, np.uint8)) > 0
+    faded = ghost & ~held
+    expected = plate.astype(np.float32) + (start.astype(np.float32) - plate) * (1 - config.bg_online_change_rate) ** 30
+    np.testing.assert_allclose(model.mean[faded], expected[faded], atol=0.01)
+    np.testing.assert_array_equal(model.mean[held], start[held].astype(np.float32))
+    assert error(model.background.plate, plate)[faded].max() <= 10
+
+
+@pytest.mark.parametrize(("estimated", "refine"), [(True, True), (True, False), (False, True)])
+def test_the_tracker_refines_an_estimated_plate_and_never_a_given_one(estimated: bool, refine: bool) -> None:
+    folder = clip()
+    gt = truth(folder)
+    plate = np.asarray(upperpose.io.video.read_background(folder / "background.png", (H, W)))
+    start, ghost = ghosted(plate)
+    config = FeatureConfig(bg_refine_estimate=refine)
+    background = Background.from_plate(start, config, estimated=estimated, method="masked median")
+    tracker = Tracker(camera_of(folder), background, TrackerConfig(features=config), fps=15.0, fitter=TruthFitter(gt))
+    assert not tracker.learns_background  # start-up waits as with a plate: no inpainted guess behind the person
+    statuses = [tracker.update(frame).status for frame in clip_frames(folder)]
+    assert statuses.count(TRACKED) >= 20  # of 50: the clip opens on the empty room
+    assert tracker.background is not None
+    if estimated and refine:
+        assert tracker.background.method == "masked median, refined while tracking"
+        assert error(tracker.background.plate, plate)[ghost].mean() < 10  # the patch showed 100+
+    else:
+        np.testing.assert_array_equal(tracker.background.plate, start)

@@ -388,6 +388,11 @@ class FeatureConfig:
     (`features/online.py`; no pass over the video first, but less accurate on the validation and
     development sets, docs/features.md). A live camera or stream always learns it online."""
 
+    bg_refine_estimate: bool = True
+    """A plate estimated before tracking (`bg_model` "prepass") goes on learning while tracking,
+    as the online model does (`features/online.py`): the ghosts of the person the estimate kept
+    fade where the room shows away from the tracked person."""
+
     bg_online_rate: float = 0.02
     """Online background: the running mean's rate once it has seen 1/rate frames (before, the
     plain mean of the frames so far); sets how fast it follows slow light changes."""

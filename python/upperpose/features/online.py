@@ -10,12 +10,14 @@ the frame differs from the model (the room uncovered where the person stood at t
 
 The first frame is the start: the person around each face (GrabCut inside the body region, and
 the skin there) is filled by inpainting from around them, and each filled pixel is taken as it is
-the first time it is seen away from the person. The arrays are allocated once: memory does not
-grow with the video. See docs/features.md.
+the first time it is seen away from the person. Or a plate estimated from the whole video before
+tracking is (`from_estimate`): learning then fades the ghosts of the person it kept. The arrays
+are allocated once: memory does not grow with the video. See docs/features.md.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import time
 from collections.abc import Sequence
 from typing import cast
@@ -94,14 +96,35 @@ class OnlineBackground:
     """
 
     def __init__(self, frame: Frame, faces: Sequence[FaceBox] = (), config: FeatureConfig | None = None) -> None:
-        self.config = cfg = config or FeatureConfig()
+        cfg = config or FeatureConfig()
         frame = check_frame(frame, "frame")
-        height, width = frame.shape[:2]
         hole = first_hole(frame, faces, cfg)
-        plate = cv2.inpaint(frame, hole, cfg.bg_inpaint_radius, cv2.INPAINT_TELEA) if hole.any() else frame
+        plate = cast(Frame, cv2.inpaint(frame, hole, cfg.bg_inpaint_radius, cv2.INPAINT_TELEA) if hole.any() else frame)
+        background = Background.from_plate(np.array(plate), cfg, estimated=True, method=METHOD)
+        self._start(plate, cast(Mask, cv2.bitwise_not(hole)), 1, background)
+
+    @classmethod
+    def from_estimate(cls, background: Background) -> OnlineBackground:
+        """Goes on learning from a plate estimated before tracking (`background.estimate_plate`).
+
+        The estimate keeps what the median kept: where the person stood in most samples but not
+        always, a ghost of them. Learning while tracking replaces it wherever the room shows
+        away from the person. Every pixel counts as seen and the model as mature (the estimate
+        already sums the video): from the first frame the rate is `bg_online_rate`, or
+        `bg_online_change_rate` where the frame differs from the plate.
+        """
+        model = cls.__new__(cls)
+        seen = np.full(background.size, 255, np.uint8)
+        refined = dataclasses.replace(background, method=f"{background.method}, refined while tracking")
+        model._start(background.plate, seen, round(1.0 / background.config.bg_online_rate), refined)
+        return model
+
+    def _start(self, plate: Frame, seen: Mask, frames: int, background: Background) -> None:
+        self.config = cfg = background.config
+        height, width = plate.shape[:2]
         self.mean = np.asarray(plate, np.float32)
-        self.seen = cv2.bitwise_not(hole)
-        self.frames = 1
+        self.seen = seen
+        self.frames = frames
         self.last_learn_ms = 0.0  # CPU time of the last `learn`, refresh included
         self._fresh = 0  # frames learnt since the last refresh
         self._kernel = square(2 * cfg.bg_online_margin + 1)
@@ -109,7 +132,7 @@ class OnlineBackground:
         self._held = np.empty((height, width), np.uint8)
         self._busy = np.empty((height, width), np.uint8)
         self._mask = np.empty((height, width), np.uint8)
-        self.background = Background.from_plate(np.array(plate), cfg, estimated=True, method=METHOD)
+        self.background = background
 
     def learn(self, frame: Frame, person: Mask | None, busy: Mask | None = None, changed: Mask | None = None) -> bool:
         """Learns from one frame away from the person.
@@ -163,7 +186,7 @@ class OnlineBackground:
         if refresh:
             self._fresh = 0
             plate = cast(Frame, cv2.convertScaleAbs(self.mean))
-            self.background = Background.from_plate(plate, cfg, estimated=True, method=METHOD)
+            self.background = Background.from_plate(plate, cfg, estimated=True, method=self.background.method)
         self.last_learn_ms = 1000 * (time.thread_time() - start)
         return refresh
 

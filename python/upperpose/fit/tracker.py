@@ -83,6 +83,8 @@ class Tracker:
         camera: the camera (`Camera.for_image(w, h, focal)`).
         background: a `Background`, or a clean plate `(H, W, 3)` uint8 BGR image; None learns
             the background from the frames while tracking (`features.online`; no clean plate).
+            An estimated `Background` (`background_from_video` without a plate) goes on
+            learning while tracking when `bg_refine_estimate` is on.
         config: tracker settings.
         fps: frame rate, for the search's trajectory windows when `update` gets no timestamps.
         body: dimensions to start the start-up measurement from (adult averages when None).
@@ -124,6 +126,7 @@ class Tracker:
         cfg = self.config
         # Without a background the first frame starts the online model and the features.
         self._online: OnlineBackground | None = None
+        self._refines_estimate = False  # the online model started from an estimated plate
         self._first_faces: list[FaceBox] | None = None
         self._features: FrameFeatures | None = None
         self._held_faces: tuple[list[FaceBox], int] = ([], 0)  # last detected faces, frames left
@@ -132,6 +135,10 @@ class Tracker:
         self.size = (0, 0)  # (height, width), known from the background or the first frame
         if background is not None:
             self._set_background(background)
+            estimate = self._extractor.background
+            if estimate.estimated and estimate.config.bg_refine_estimate:
+                self._online = OnlineBackground.from_estimate(estimate)
+                self._refines_estimate = True
         self.fps = float(fps) if fps and fps > 0 else 30.0
         self._fitter: Fitter = fitter or fit_frame
         self._search_config = cfg.search_config()
@@ -170,8 +177,11 @@ class Tracker:
 
     @property
     def learns_background(self) -> bool:
-        """Whether the background is learnt from the frames (no clean plate was given)."""
-        return self._online is not None or self._extract is None
+        """Whether the background is learnt from the frames alone (no clean plate, no estimate).
+
+        Until the first fit such a background shows the inpainted guess behind the person.
+        """
+        return self._extract is None or (self._online is not None and not self._refines_estimate)
 
     @property
     def face_only_frames(self) -> int:
