@@ -6,10 +6,11 @@ Each CLIP is a folder with `video.mp4`, `background.png` (the true clean plate) 
 `meta.json` (`camera.focal`). The tracker runs without the plate, once with the online
 background and once with the default for a file (the pre-pass estimate, refined while tracking:
 "refined"); MOG2 and KNN (`cv2.createBackgroundSubtractor*`, default settings, no shadows) are
-fed the same frames and their `getBackgroundImage()` is read at the same frames. Reported per clip and model: the share
-of pixels whose background differs from the true plate by more than `sub_threshold` in some
-channel (each such pixel is a false I_sub), at chosen frames and as a mean over them, and the
-milliseconds per frame (median, CPU of this thread) of learning, and of producing the image.
+fed the same frames and their `getBackgroundImage()` is read at the same frames. Reported per
+clip and model: the share of pixels whose background differs from the true plate by more than
+`sub_threshold` in some channel (each such pixel is a false I_sub), at chosen frames and as a
+mean over them, and the milliseconds per frame (median, CPU of this thread) of learning, and of
+producing the image.
 The estimate of the pre-pass over the whole video (`features.background`) is given once.
 
 Not a test: the numbers depend on the clips; times on the machine.
