@@ -29,7 +29,7 @@ from typing import Any, cast
 import cv2
 import numpy as np
 
-from upperpose.features import CleanPlateWarning, FeatureConfig, background_from_video
+from upperpose.features import CleanPlateWarning, FeatureConfig
 from upperpose.features.change import colour_change
 from upperpose.features.checks import Frame
 from upperpose.fit import TrackerConfig
@@ -88,7 +88,8 @@ def compare_clip(folder: Path, every: int = 30) -> dict[str, Any]:
                     learn["refined"].append(refined.last_learn_ms)
                 if index % every == 0 and run.tracker.background is not None:
                     errors["refined"].append(wrong_share(run.tracker.background.plate, plate, threshold))
-        estimated = background_from_video(folder / "video.mp4")
+    estimated = run.background  # the pre-pass estimate the refinement started from, unchanged
+    assert estimated is not None
     return {
         "clip": folder.name,
         "frames": frames,
