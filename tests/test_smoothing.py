@@ -8,7 +8,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from upperpose.fit.smoothing import PoseSmoother, window_weights
-from upperpose.model import BodyModel, Camera, Pose, forward_kinematics, project
+from upperpose.model import BodyModel, Camera, Pose, forward_kinematics, project, reaching_camera
 from upperpose.result import NO_PERSON, TRACKED, TrackResult
 
 CAMERA = Camera.for_image(640, 480)
@@ -119,3 +119,24 @@ def test_lag_zero_passes_results_through_and_bad_lags_are_refused() -> None:
     assert [r for r, _ in out] == results
     with pytest.raises(ValueError, match="smoothing lag must be an integer within 0..30"):
         PoseSmoother(CAMERA, -1)
+
+
+def test_a_smoothed_arm_never_reaches_through_the_camera() -> None:
+    # A person 0.62 m away swinging an arm towards the camera: fitted poses with the arm at
+    # x_up 0.8 and 2.3 rad keep every joint clear of the camera, their average (pointing at it)
+    # puts the hand behind it. Such frames keep the fitted pose.
+    root = np.array([0.0, 0.1, 0.62])
+    swings = [np.zeros(13) for _ in range(15)]
+    for i, pose in enumerate(swings):
+        pose[4] = 0.8 if i % 2 else 2.3
+    assert all(not reaching_camera(p, root, BODY, CAMERA) for p in swings)
+    middle = np.zeros(13)
+    middle[4] = 1.55
+    assert reaching_camera(middle, root, BODY, CAMERA) == ("right_arm",)
+    out = run(PoseSmoother(CAMERA, lag=6), [result(i, p, root) for i, p in enumerate(swings)])
+    kept = 0
+    for r, _ in out:
+        assert reaching_camera(r.pose, r.root, BODY, CAMERA) == ()
+        assert np.all(np.isfinite(r.joints_2d))
+        kept += int(np.array_equal(r.pose, swings[r.frame]))
+    assert kept > 0

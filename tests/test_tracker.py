@@ -41,7 +41,7 @@ from upperpose.fit.startup import (
 )
 from upperpose.fit.tracker import FACE_CHECK_REACH
 from upperpose.io.video import VideoReader
-from upperpose.model import model_points, penetrates
+from upperpose.model import MIN_JOINT_DEPTH, model_points, penetrates, reaching_camera
 
 # -- pure units -------------------------------------------------------------------------------
 
@@ -496,6 +496,52 @@ def test_real_loss_is_detected_and_recovered(gt: dict) -> None:
     lost_at = statuses.index(LOST, 36)
     assert any(c[0] >= lost_at and c[1] == "initial" and c[2] == ("right_arm",) for c in fitter.calls)
     assert statuses[-1] == TRACKED
+
+
+class ThroughCameraFitter(TruthFitter):
+    """The search double, for a person filming themselves at arm's length: on `near` frames
+    the trajectory search returns the right arm pointing straight at a camera 0.5 m away (the
+    hand 0.1 m behind it); the full-range search finds the true arm."""
+
+    def __init__(self, gt: dict[str, Any], near: range) -> None:
+        super().__init__(gt)
+        self.near = near
+
+    def __call__(self, features: object, prediction: object, root: object, body: object, camera: object, **kw: object):  # type: ignore[no-untyped-def]
+        index = kw["frame_index"]
+        if index in self.near:
+            root = np.array([*np.asarray(root)[:2], 0.5])
+        fit = super().__call__(features, prediction, root, body, camera, **kw)
+        if kw["mode"] != "trajectory" or index not in self.near or "right_arm" not in kw["search"]:  # type: ignore[operator]
+            return fit
+        pose = np.array(fit.pose)
+        pose[3:8] = [0.0, np.pi / 2, 0.0, 0.0, 0.0]
+        joints = upperpose.forward_kinematics(pose, fit.root, body)
+        return StaticFit(pose, fit.root, joints, upperpose.project(camera, joints), fit.cost, fit.stage_costs)
+
+
+def test_an_arm_through_the_camera_is_searched_again_over_its_ranges(gt: dict) -> None:
+    # A stage whose every candidate reaches the camera keeps its prediction; the tracker must
+    # not take such an arm, whose joints project to infinity (and would make the pose file
+    # unwritable), but search it over its whole range.
+    near = range(41, 47)  # the wave: the right arm is searched
+    fitter = ThroughCameraFitter(gt, near)
+    folder = clip()
+    camera = camera_of(folder)
+    tracker = Tracker(camera, cv2.imread(str(folder / "background.png")), TrackerConfig(), fps=15.0, fitter=fitter)
+    results = []
+    with VideoReader(folder / "video.mp4") as reader:
+        for frame in reader:
+            results.append(tracker.update(frame))
+    pointing = upperpose.forward_kinematics([0, 0, 0, 0, np.pi / 2, 0, 0, 0, 0, 0, 0, 0, 0], [0, 0, 0.5], tracker.body)
+    assert pointing[5, 2] < 0  # the double's arm does reach through the camera
+    assert any(i in near and mode == "trajectory" and "right_arm" in parts for i, mode, parts in fitter.calls)
+    assert any(i in near and (mode, parts) == ("initial", ("right_arm",)) for i, mode, parts in fitter.calls)
+    for r in results:
+        if r.pose is not None:
+            assert np.all(np.isfinite(r.joints_2d)), r.frame
+            assert reaching_camera(r.pose, r.root, tracker.body, camera) == (), r.frame
+            assert r.joints_3d[:, 2].min() >= MIN_JOINT_DEPTH or r.frame not in near
 
 
 class RegionBiasedFitter(TruthFitter):

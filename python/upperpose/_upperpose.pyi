@@ -32,6 +32,7 @@ __version__: str
 ANGLE_NAMES: list[str]
 JOINT_NAMES: list[str]
 PART_NAMES: list[str]
+MIN_JOINT_DEPTH: float
 
 _Limits = Literal["anatomical", "thesis"]
 _Optimizer = Literal["apso", "pso", "simplex", "apsopf"]

@@ -15,7 +15,7 @@ import numpy as np
 import numpy.typing as npt
 
 import upperpose._upperpose as _upperpose
-from upperpose._upperpose import ANGLE_NAMES, JOINT_NAMES, PART_NAMES, BodyModel, Camera
+from upperpose._upperpose import ANGLE_NAMES, JOINT_NAMES, MIN_JOINT_DEPTH, PART_NAMES, BodyModel, Camera
 from upperpose.exceptions import InputError
 
 FloatArray = npt.NDArray[np.float64]
@@ -158,6 +158,24 @@ def penetrates(pose: PoseLike, root: npt.ArrayLike, body: BodyModel | None = Non
     return _upperpose.penetrates(pose_array(pose), as_float_array(root, "root", (3,)), body or BodyModel())
 
 
+# Model points and joints per part, JOINT_NAMES indices: the head; shoulder, elbow, hand.
+_PART_POINTS = {"torso": [0], "right_arm": [1, 3, 5], "left_arm": [2, 4, 6]}
+
+
+def reaching_camera(pose: PoseLike, root: npt.ArrayLike, body: BodyModel, camera: Camera) -> tuple[str, ...]:
+    """The parts ("torso", "right_arm", "left_arm") too near a perspective camera.
+
+    A part is too near when a model point or joint lies nearer than `MIN_JOINT_DEPTH` metres;
+    the search rejects such candidates (the joint projects far outside the image, or not at
+    all). Empty for the other cameras, whose projection does not depend on the depth.
+    """
+    if camera.kind != "perspective":
+        return ()
+    points = skeleton(pose, root, body)
+    depth = np.minimum(points["model_points"][:, 2], points["joints"][:, 2])
+    return tuple(part for part, rows in _PART_POINTS.items() if bool(np.any(depth[rows] < MIN_JOINT_DEPTH)))
+
+
 def check_camera_fits(camera: Camera, width: int, height: int) -> None:
     """Refuses a camera made for another image size: its principal point off the middle half.
 
@@ -243,6 +261,7 @@ def _render_args(
 __all__ = [
     "ANGLE_NAMES",
     "JOINT_NAMES",
+    "MIN_JOINT_DEPTH",
     "PART_NAMES",
     "BodyModel",
     "Camera",
@@ -253,6 +272,7 @@ __all__ = [
     "model_points",
     "penetrates",
     "pose_array",
+    "reaching_camera",
     "project",
     "render_labels",
     "render_masks",

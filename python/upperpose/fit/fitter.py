@@ -17,7 +17,7 @@ import numpy.typing as npt
 
 from upperpose.features import FrameFeatures
 from upperpose.fit.search import Mode, SearchConfig
-from upperpose.model import BodyModel, Camera, penetrates
+from upperpose.model import BodyModel, Camera, penetrates, reaching_camera
 
 FloatArray = npt.NDArray[np.float64]
 PARTS = ("torso", "right_arm", "left_arm")
@@ -111,10 +111,12 @@ class FrameSearch:
     def fair_cost(self, features: FrameFeatures, pose: FloatArray, root: FloatArray) -> float:
         """A pose's cost unsearched, in the full-range search's regions: comparable between poses.
 
-        Infinite for a pose the search rejects (an arm through the torso or the other arm),
-        whose stage the fitter scores 0.
+        Infinite for a pose the search rejects (an arm through the torso or the other arm, a
+        part reaching the camera), whose stage the fitter scores 0.
         """
         if self.config.non_penetration and penetrates(pose, root, self.body):
+            return math.inf
+        if reaching_camera(pose, root, self.body, self.camera):
             return math.inf
         return float(self.run(features, pose, root, "initial", ()).cost)
 

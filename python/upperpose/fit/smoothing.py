@@ -24,7 +24,7 @@ import numpy as np
 import numpy.typing as npt
 
 from upperpose.exceptions import InputError
-from upperpose.model import BodyModel, Camera, forward_kinematics, project
+from upperpose.model import BodyModel, Camera, forward_kinematics, project, reaching_camera
 from upperpose.result import LOST, TRACKED, TrackResult
 
 FloatArray = npt.NDArray[np.float64]
@@ -108,6 +108,8 @@ class PoseSmoother(Generic[T]):
         w = window_weights(before, after, self.lag)
         pose = w @ np.array([np.asarray(r.pose, dtype=float) for r, _ in window])
         root = w @ np.array([np.asarray(r.root, dtype=float) for r, _ in window])
+        if reaching_camera(pose, root, body, self.camera):
+            return result  # the quadratic overshot into the camera: keep the fitted pose
         joints_3d = forward_kinematics(pose, root, body)
         return dataclasses.replace(
             result, pose=pose, root=root, joints_3d=joints_3d, joints_2d=project(self.camera, joints_3d)

@@ -55,6 +55,7 @@ from upperpose.model import (
     forward_kinematics,
     model_points,
     project,
+    reaching_camera,
     render_labels,
 )
 from upperpose.result import NO_PERSON, TrackResult
@@ -377,6 +378,7 @@ class Tracker:
             fit = self._static_fit(prediction, root)
         doubted = self._doubt.take_doubted(lost)
         fit, features, self._corrected = self._corrections.correct(features, fit, lost, doubted, search)
+        fit = self._clear_of_camera(features, fit, search)
         t2 = time.perf_counter()
         searched = tuple(p for p in PARTS if p in trajectory or p in doubted)
         result = self._accept(fit, features, index, searched, {"features": t1 - t0, "search": t2 - t1})
@@ -451,6 +453,21 @@ class Tracker:
     def _frame_search(self, index: int, interval: float) -> FrameSearch:
         """This frame's fits of the person's body."""
         return FrameSearch(self._fitter, self.body, self.camera, self._search_config, index, interval)
+
+    def _clear_of_camera(self, features: FrameFeatures, fit: FitLike, search: FrameSearch) -> FitLike:
+        """The fit with each arm that reaches the camera searched again over its whole range.
+
+        A stage whose every candidate the search rejects keeps its prediction, and a person
+        filming themselves at arm's length can have an arm predicted and leant (with the
+        torso) through the camera; its joints would then project to infinity.
+        """
+        for arm in reaching_camera(np.asarray(fit.pose), np.asarray(fit.root), self.body, self.camera):
+            if arm == "torso":
+                continue
+            refit = search.run(features, np.asarray(fit.pose), np.asarray(fit.root), "initial", (arm,))
+            if arm not in reaching_camera(np.asarray(refit.pose), np.asarray(refit.root), self.body, self.camera):
+                fit = refit
+        return fit
 
     def _static_fit(self, pose: FloatArray, root: FloatArray) -> StaticFit:
         joints = forward_kinematics(pose, root, self.body)

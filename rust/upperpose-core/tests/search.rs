@@ -5,7 +5,9 @@
 use nalgebra::{Vector2, Vector3};
 use proptest::prelude::*;
 use upperpose_core::image::{FrameView, SkinPoints};
-use upperpose_core::search::{fit_frame, FrameFit, FrameRequest, Mode, Optimizer, SearchConfig};
+use upperpose_core::search::{
+    fit_frame, FrameFit, FrameRequest, Mode, Optimizer, SearchConfig, MIN_JOINT_DEPTH,
+};
 use upperpose_core::{
     skeleton_from_pose, BitMask, BodyModel, BodyRaster, Camera, Dof, Joint, Pose, Roi,
 };
@@ -290,6 +292,39 @@ proptest! {
         let fit = fit_frame(&req, &config).unwrap();
         prop_assert!(config.limits.contains(&fit.pose));
         prop_assert!(!upperpose_core::search::constraints::pose_penetrates(&fit.pose, &fit.root, &body) || upperpose_core::search::constraints::pose_penetrates(&truth, &root, &body));
+    }
+}
+
+fn nearest_depth(pose: &Pose, root: &Vector3<f64>, body: &BodyModel) -> f64 {
+    let skel = skeleton_from_pose(pose, root, body);
+    skel.model_points()
+        .iter()
+        .chain(skel.joints().iter())
+        .map(|p| p.z)
+        .fold(f64::INFINITY, f64::min)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 24, failure_persistence: None, ..ProptestConfig::default() })]
+    #[test]
+    fn no_fit_reaches_through_the_camera(seed in 0u64..1000, lean in -0.4..0.6f64, xu in 0.0..1.6f64, xd in 0.0..2.4f64) {
+        // A person filming themselves at arm's length: the root 0.5 m from the camera, arms
+        // predicted towards it. From a prediction clear of the camera, every stage keeps clear.
+        let root = Vector3::new(0.0, 0.05, 0.5);
+        let body = BodyModel::default();
+        let truth = test_poses()[0];
+        let f = features_of(&truth, &root, &body, &camera());
+        let mut prediction = truth;
+        prediction.set(Dof::TorsoX, lean);
+        prediction.set(Dof::RightXUp, xu);
+        prediction.set(Dof::RightXDown, xd);
+        prop_assume!(nearest_depth(&prediction, &root, &body) >= MIN_JOINT_DEPTH);
+        let config = SearchConfig { seed, ..SearchConfig::default() };
+        let mut req = request(&f, prediction, root, Mode::Trajectory);
+        req.window_scale = 4.0;
+        req.frame_index = seed;
+        let fit = fit_frame(&req, &config).unwrap();
+        prop_assert!(nearest_depth(&fit.pose, &fit.root, &body) >= MIN_JOINT_DEPTH);
     }
 }
 

@@ -17,6 +17,7 @@ fn _upperpose(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("ANGLE_NAMES", DOF_NAMES.to_vec())?;
     m.add("JOINT_NAMES", JOINT_NAMES.to_vec())?;
     m.add("PART_NAMES", PART_NAMES.to_vec())?;
+    m.add("MIN_JOINT_DEPTH", upperpose_core::search::MIN_JOINT_DEPTH)?;
     m.add(
         "UpperposeError",
         m.py().get_type::<errors::UpperposeError>(),

@@ -184,6 +184,11 @@ pub const MAX_POINT_PX: f64 = 1e6;
 /// Nearest and farthest root depth (metres) a perspective fit takes.
 pub const MIN_ROOT_DEPTH: f64 = 0.1;
 pub const MAX_ROOT_DEPTH: f64 = 1000.0;
+/// Nearest a perspective fit puts any model point or joint, metres in front of the camera.
+/// Nearer, a part fills the frame or cannot be drawn at all, and its joint projects to
+/// infinity: an arm of a person filming themselves at arm's length otherwise reached through
+/// the camera.
+pub const MIN_JOINT_DEPTH: f64 = 0.1;
 
 impl SearchConfig {
     /// Checks every setting's range; the one place they are checked (the Python binding
@@ -440,6 +445,53 @@ fn part_box(stage: Stage, req: &FrameRequest, skel: &Skeleton, roi: Roi) -> Opti
     })
 }
 
+/// Whether some point of `body` posed with its root at `root` could lie nearer a perspective
+/// camera than `MIN_JOINT_DEPTH`: no point lies farther from the root than the shoulder's
+/// offset and the whole arm, or the head's offset and its largest radius.
+fn may_reach_camera(camera: &Camera, root: &Vector3<f64>, body: &BodyModel) -> bool {
+    let arm = body.shoulder_width / 2.0
+        + body.shoulder_height
+        + body.upper_arm_radii[0]
+        + body.upper_arm_length
+        + body.lower_arm_length;
+    let head = body.shoulder_height
+        + body.head_offset
+        + body.head_radii.iter().fold(0.0_f64, |a, &r| a.max(r));
+    camera.is_perspective() && root.z - arm.max(head) < MIN_JOINT_DEPTH
+}
+
+/// Whether any of `points` lies nearer the camera than `MIN_JOINT_DEPTH`.
+fn near_camera(points: &[Vector3<f64>]) -> bool {
+    points.iter().any(|p| p.z < MIN_JOINT_DEPTH)
+}
+
+/// An arm's model points and reported joints: the cone's top, the elbow, the cone's end, the
+/// glenohumeral centre and the palm.
+fn arm_points(skel: &Skeleton, side: Side) -> [Vector3<f64>; 5] {
+    let arm = skel.arm(side);
+    let joints = skel.joints();
+    let (shoulder, palm) = match side {
+        Side::Right => (Joint::RightShoulder, Joint::RightHand),
+        Side::Left => (Joint::LeftShoulder, Joint::LeftHand),
+    };
+    [
+        arm.shoulder,
+        arm.elbow,
+        arm.hand,
+        joints[shoulder as usize],
+        joints[palm as usize],
+    ]
+}
+
+/// The trunk's points: the head ellipsoid's centre, the centre of the head, the neck's base.
+fn trunk_points(skel: &Skeleton) -> [Vector3<f64>; 3] {
+    [
+        skel.head,
+        skel.joints()[Joint::Head as usize],
+        skel.neck_base,
+    ]
+}
+
 /// Everything one stage needs to score candidates.
 struct StageSetup<'a> {
     stage: Stage,
@@ -454,6 +506,11 @@ struct StageSetup<'a> {
     shoulder_px: f64,
     /// Search dimensions: the stage's angles, plus root dx, dy for the torso.
     bounds: Vec<DofRange>,
+    /// Whether a candidate may come nearer the camera than `MIN_JOINT_DEPTH` at all (most
+    /// people stand too far away for any check to be needed).
+    may_reach_camera: bool,
+    /// Whether each arm (right, left) of the base keeps `MIN_JOINT_DEPTH` from the camera.
+    base_arms_clear: [bool; 2],
 }
 
 impl StageSetup<'_> {
@@ -520,9 +577,33 @@ impl StageSetup<'_> {
     fn cost(&self, x: &[f64], scratch: &mut EvalScratch) -> f64 {
         let (p, r) = self.candidate(x);
         let skel = self.skeleton(&p, &r);
+        if self.reaches_camera(&p, &r, &skel) {
+            return f64::INFINITY;
+        }
         self.terms_of(&skel, scratch).map_or(f64::INFINITY, |t| {
             t.total(&self.config.weights) + self.behind(&skel) + self.rest(&p)
         })
+    }
+
+    /// Whether a candidate puts a point of the stage's part nearer the camera than
+    /// `MIN_JOINT_DEPTH` (perspective only). The torso stage's candidate is checked with the
+    /// arms attached to it, so that turning or leaning the trunk cannot push an arm through
+    /// the camera; an arm already that near in the base is left to its own stage.
+    fn reaches_camera(&self, pose: &Pose, root: &Vector3<f64>, skel: &Skeleton) -> bool {
+        if !self.may_reach_camera {
+            return false;
+        }
+        match self.stage.side() {
+            Some(side) => near_camera(&arm_points(skel, side)),
+            None => {
+                let whole = skeleton_from_pose(pose, root, &self.req.body);
+                near_camera(&trunk_points(&whole))
+                    || [Side::Right, Side::Left]
+                        .into_iter()
+                        .zip(self.base_arms_clear)
+                        .any(|(side, clear)| clear && near_camera(&arm_points(&whole, side)))
+            }
+        }
     }
 
     /// The priors towards rest of the angles the image hardly shows (docs/search.md): the
@@ -700,6 +781,9 @@ fn run_stage(
         },
         shoulder_px: b.shoulder_width * pixels_per_metre(&req.camera, root),
         bounds,
+        may_reach_camera: may_reach_camera(&req.camera, root, b),
+        base_arms_clear: [Side::Right, Side::Left]
+            .map(|side| !near_camera(&arm_points(&skel, side))),
     };
     let mut evaluations = 0;
     if req.search[stage as usize] {
