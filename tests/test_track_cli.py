@@ -236,6 +236,18 @@ def test_video_without_a_person(
     assert len(doc["frames"]) == 20 and {f["status"] for f in doc["frames"]} == {"no_person"}
 
 
+def test_a_grey_video_without_a_person_says_it_has_no_colour(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], plate_path: Path, fake_search: TruthFitter
+) -> None:
+    # An infrared or black-and-white camera: no face and no skin can be found, and the error
+    # says why.
+    plate = cv2.cvtColor(cv2.cvtColor(cv2.imread(str(plate_path)), cv2.COLOR_BGR2GRAY), cv2.COLOR_GRAY2BGR)
+    video = write_video(tmp_path / "grey_room.mp4", [plate] * 20)
+    code, _, err = track([str(video), "-o", str(tmp_path / "o.json"), "--quiet"], capsys)
+    assert code == 1
+    assert "no person found" in one_line_error(err) and "the video has no colour" in one_line_error(err)
+
+
 # -- determinism, with the real search ------------------------------------------------------------
 
 

@@ -115,6 +115,8 @@ def run_job(job: Job, out_dir: Path, on_frame: Callable[[int, int | None, str], 
     note = ""
     if not done.posed:
         note = "no person found" if done.no_person == done.frames else "start-up never completed (no steady face)"
+        if done.looks:
+            note += f"; {done.looks}"
     return row(
         job,
         DONE if done.posed else NO_POSE,

@@ -220,9 +220,10 @@ def run(args: argparse.Namespace) -> int:
         print(f"upperpose track: interrupted after {done.frames} frames; wrote them to {names}", file=sys.stderr)
         return 130
     frames = done.frames
+    looks = f"; {done.looks}" if done.looks else ""
     if frames == 0 or done.no_person == frames:
         raise UpperposeError(
-            f"no person found in {name} ({frames} frames): start-up needs a visible frontal face; "
+            f"no person found in {name} ({frames} frames): start-up needs a visible frontal face{looks}; "
             f"wrote an all-'no_person' {args.output}"
         )
     if done.posed == 0:
@@ -230,7 +231,7 @@ def run(args: argparse.Namespace) -> int:
             f"tracking never started in {name} ({frames} frames): a face was seen but never held still "
             f"long enough (a steady face for {max(config.any_pose_frames, 2)} frames and a fit that explains "
             f"the silhouette, the A-pose for {config.confirm_frames} frames in a row, or a steady face for "
-            f"{done.face_only_frames}); wrote {args.output} without a pose"
+            f"{done.face_only_frames}){looks}; wrote {args.output} without a pose"
         )
     if not args.quiet:
         first = done.first_posed or 0

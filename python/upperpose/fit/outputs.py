@@ -25,6 +25,7 @@ from upperpose.fit.smoothing import DEFAULT_LAG, PoseSmoother
 from upperpose.fit.tracker import TrackerConfig
 from upperpose.io.bvh import write_bvh
 from upperpose.io.files import interrupts_held
+from upperpose.io.looks import VideoLooks
 from upperpose.io.output import PoseRecorder
 from upperpose.io.overlay import OverlayWriter, draw_overlay
 from upperpose.io.video import Frame
@@ -65,6 +66,7 @@ class Tracked:
     face_only_frames: int
     written: tuple[Path, ...]
     interrupted: bool
+    looks: str | None = None  # why the video may defeat start-up (`upperpose.io.looks`), or None
 
     @property
     def posed(self) -> int:
@@ -160,6 +162,7 @@ def track_to_files(
         "yes" if run_.clean_plate else "no (estimated from the video)",
     )
     lost: set[str] = set()
+    looks = VideoLooks()
 
     def take(result: TrackResult, frame: Frame | None) -> None:
         posed_before = recorder.first_posed is not None
@@ -184,6 +187,7 @@ def track_to_files(
     run_time = 0.0
     try:
         for frame, result in run_.frames():
+            looks.see(result.frame, frame)
             for done, shown in smoother.push(result, run_.tracker.body, frame if overlay is not None else None):
                 take(done, shown)
         finished = True
@@ -217,6 +221,7 @@ def track_to_files(
         face_only_frames=run_.tracker.face_only_frames,
         written=tuple(written),
         interrupted=interrupted,
+        looks=looks.hint(),
     )
 
 
