@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from upperpose.features.checks import Frame
+from upperpose.io.video import Frame
 
 # Mean spread between a pixel's largest and smallest channel, as a share of the mean level,
 # below which a video has no colour: a grey picture decodes with about 3 levels of spread (the
@@ -30,23 +30,26 @@ class VideoLooks:
 
     def __init__(self, every: int = 15) -> None:
         self.every = max(int(every), 1)
-        self._spreads: list[float] = []
-        self._levels: list[float] = []
+        # Sums over the sampled frames, not lists: a live run's memory must not grow.
+        self._samples = 0
+        self._spread = 0.0
+        self._level = 0.0
 
     def see(self, index: int, frame: Frame) -> None:
         """Samples frame number `index` (BGR) if it is one of the sampled frames."""
         if index % self.every:
             return
         pixels = frame[::4, ::4].astype(np.int16)
-        self._spreads.append(float((pixels.max(axis=2) - pixels.min(axis=2)).mean()))
-        self._levels.append(float(pixels.mean()))
+        self._samples += 1
+        self._spread += float((pixels.max(axis=2) - pixels.min(axis=2)).mean())
+        self._level += float(pixels.mean())
 
     def hint(self) -> str | None:
         """Why a face or skin may not be found in this video, or None when it looks usable."""
-        if not self._spreads:
+        if not self._samples:
             return None
-        level = float(np.mean(self._levels))
-        if float(np.mean(self._spreads)) < GREY_SPREAD * max(level, 1.0):
+        level, spread = self._level / self._samples, self._spread / self._samples
+        if spread < GREY_SPREAD * max(level, 1.0):
             return "the video has no colour (grey frames): the face and hands are found by their skin colour"
         if level < DARK_LEVEL:
             return f"the video is very dark (mean level {level:.0f} of 255): the face detector needs more light"
