@@ -283,8 +283,12 @@ def estimate_plate(lead: Sequence[Frame], samples: Sequence[Frame], config: Feat
     return plate, "masked median, person cut out" if cut else "masked median"
 
 
-def sample_video(path: str | os.PathLike[str], config: FeatureConfig) -> tuple[list[Frame], list[Frame], float]:
+def sample_video(
+    path: str | os.PathLike[str], config: FeatureConfig, size: tuple[int, int] | None = None
+) -> tuple[list[Frame], list[Frame], float]:
     """Reads a video once: its lead-in frames and up to `bg_max_samples` frames spread over it.
+
+    `size`: (width, height) to shrink the kept frames to (the tracker's working size), if given.
 
     Returns:
         (lead-in frames, samples, frames per second).
@@ -307,6 +311,8 @@ def sample_video(path: str | os.PathLike[str], config: FeatureConfig) -> tuple[l
             ok, frame = capture.read()
             if not ok:
                 break
+            if size is not None and (index < lead_count or index % step == 0):
+                frame = cv2.resize(frame, size, interpolation=cv2.INTER_AREA)
             if index < lead_count:
                 lead.append(cast(Frame, frame))
             if index % step == 0:
@@ -356,8 +362,11 @@ def background_from_video(
     path: str | os.PathLike[str],
     config: FeatureConfig | None = None,
     plate: Frame | None = None,
+    size: tuple[int, int] | None = None,
 ) -> Background:
     """The background for a video: `plate` when given, else estimated (with a `CleanPlateWarning`).
+
+    `size`: (width, height) to estimate at, the video's frames shrunk to it (None: their own).
 
     Raises:
         VideoError: the video cannot be read.
@@ -366,5 +375,5 @@ def background_from_video(
     config = config or FeatureConfig()
     if plate is not None:
         return Background.from_plate(plate, config)
-    lead, samples, _ = sample_video(path, config)
+    lead, samples, _ = sample_video(path, config, size)
     return estimate_background(lead, samples, config)

@@ -18,6 +18,7 @@ import numpy.typing as npt
 from upperpose.exceptions import InputError
 from upperpose.features import Background, CleanPlateWarning, FeatureConfig, background_from_video
 from upperpose.fit.tracker import Fitter, Tracker, TrackerConfig, TrackResult
+from upperpose.fit.work_size import WorkSize
 from upperpose.io.video import Frame, VideoReader, is_stream_url, read_background
 from upperpose.model import BodyModel, Camera
 
@@ -25,7 +26,11 @@ BackgroundLike = Background | npt.NDArray[np.uint8] | str | os.PathLike[str] | N
 
 
 def load_background(
-    background: BackgroundLike, video: str | os.PathLike[str] | int, size: tuple[int, int], config: FeatureConfig | None
+    background: BackgroundLike,
+    video: str | os.PathLike[str] | int,
+    size: tuple[int, int],
+    config: FeatureConfig | None,
+    work: WorkSize | None = None,
 ) -> tuple[Background | None, bool]:
     """The background model and whether it came from a clean plate.
 
@@ -37,12 +42,15 @@ def load_background(
         video: the video (to estimate from).
         size: the video's `(height, width)`.
         config: feature thresholds.
+        work: the working size the frames are tracked at; the background is made at it (a
+            plate of the video's size is shrunk, an estimate is made from shrunk frames).
 
     Raises:
         ValueError: a plate of another size than the video.
         VideoError: unreadable image or video.
     """
     config = config or FeatureConfig()
+    work = work or WorkSize.of(size[1], size[0], 0)
     if background is None:
         if isinstance(video, int) or is_stream_url(video) or config.bg_model == "online":
             warnings.warn(
@@ -52,18 +60,20 @@ def load_background(
                 stacklevel=2,
             )
             return None, False
-        return background_from_video(video, config), False
+        return background_from_video(video, config, size=work.work if work.reduced else None), False
     if isinstance(background, Background):
-        plate_size = background.size
-        result = background
+        plate = background.plate
     else:
         plate = background if isinstance(background, np.ndarray) else read_background(background, size)
-        plate_size = (int(plate.shape[0]), int(plate.shape[1]))
-        if plate_size == tuple(size):
-            result = Background.from_plate(plate, config)
-    if tuple(plate_size) != tuple(size):
+    plate_size = (int(plate.shape[0]), int(plate.shape[1]))
+    if plate_size != tuple(size):
         raise InputError(f"the background is {plate_size[1]}x{plate_size[0]} but the video is {size[1]}x{size[0]}")
-    return result, True
+    if not isinstance(background, Background):
+        return Background.from_plate(work.frame(plate), config), True
+    if not work.reduced:
+        return background, True
+    b = background
+    return Background.from_plate(work.frame(plate), b.config, estimated=b.estimated, method=b.method), True
 
 
 @dataclass
@@ -124,10 +134,18 @@ class VideoTracking:
         self.reader = VideoReader(video)
         try:
             size = (self.reader.height, self.reader.width)
-            self.background, self.clean_plate = load_background(background, video, size, self.config.features)
+            self.work = WorkSize.of(self.reader.width, self.reader.height, self.config.work_pixels)
+            self.background, self.clean_plate = load_background(
+                background, video, size, self.config.features, self.work
+            )
             self.camera = camera or Camera.for_image(self.reader.width, self.reader.height, focal)
             self.tracker = Tracker(
-                self.camera, self.background, self.config, fps=self.reader.fps, body=body, fitter=fitter
+                self.work.camera(self.camera),
+                self.background,
+                self.config,
+                fps=self.reader.fps,
+                body=body,
+                fitter=fitter,
             )
         except BaseException:
             self.reader.close()
@@ -148,7 +166,7 @@ class VideoTracking:
             decode = time.perf_counter() - t0
             if frame is None:
                 return
-            result = self.tracker.update(frame)
+            result = self.work.result(self.tracker.update(self.work.frame(frame)))
             if self.keep_times:
                 self.times.add(decode, result)
             yield frame, result

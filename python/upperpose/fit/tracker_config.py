@@ -109,6 +109,10 @@ class TrackerConfig:
             many frames in a row is the person's even when the generic skin rule finds too
             little skin in it (cool or dim light); the person's skin colour is then learnt
             from the whole face. 0 turns this off.
+        work_pixels: videos whose frames have more pixels are tracked at a reduced size of
+            about this many pixels, shape kept (`fit.work_size`; the pose file's joints stay in
+            the video's pixels); 0 tracks every frame at its own size. Applies to
+            `VideoTracking`, `track_video` and the command line, not to `Tracker` itself.
     """
 
     particles: int | None = None
@@ -152,6 +156,7 @@ class TrackerConfig:
     face_check_frames: int = 5
     face_drift_share: float = 0.5
     steady_face_frames: int = 8
+    work_pixels: int = 640 * 480
     search_options: dict[str, Any] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
@@ -185,6 +190,7 @@ class TrackerConfig:
             "any_pose_frames",
             "face_check_frames",
             "steady_face_frames",
+            "work_pixels",
         ):
             whole(name, 0, getattr(self, name))
         whole("acquire_restarts", 0, self.acquire_restarts)
