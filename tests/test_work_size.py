@@ -55,6 +55,7 @@ def test_a_point_seen_by_the_working_camera_maps_back_to_the_video_camera_pixel(
     # Exact but for the working height's rounding, which the single focal length ignores.
     sx, sy = work.scales
     allowed = 1e-6 + abs(sy / sx - 1.0) * np.abs(in_video[0, 1] - camera.cy)
+    assert np.allclose(work.to_work(via_work), upperpose.project(work.camera(camera), point))
     assert abs(via_work[0, 0] - in_video[0, 0]) < 1e-6
     assert abs(via_work[0, 1] - in_video[0, 1]) <= allowed * 1.01 + 1e-6
 

@@ -23,6 +23,8 @@ from upperpose.features import (
 )
 from upperpose.features.background import background_from_video
 from upperpose.features.sheet import contact_sheet
+from upperpose.fit.tracker_config import TrackerConfig
+from upperpose.fit.work_size import WorkSize
 from upperpose.io.files import write_image
 
 NAME = "features"
@@ -96,23 +98,28 @@ def run(args: argparse.Namespace) -> int:
         raise OptionError(f"--frame must be >= 0, got {args.frame}")
     config = FeatureConfig(skin_space=args.skin)
     previous, frame = read_frames(args.video, args.frame)
+    # The features the tracker sees: a large video's at its working size.
+    work = WorkSize.of(frame.shape[1], frame.shape[0], TrackerConfig().work_pixels)
+    previous, frame = (None if previous is None else work.frame(previous)), work.frame(frame)
     if args.background:
         plate = cv2.imread(args.background, cv2.IMREAD_COLOR)
         if plate is None:
             raise VideoError(f"cannot read background image {args.background}")
-        background = Background.from_plate(cast(npt.NDArray[np.uint8], plate), config)
+        background = Background.from_plate(work.frame(cast(npt.NDArray[np.uint8], plate)), config)
     else:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always", CleanPlateWarning)
-            background = background_from_video(args.video, config)
+            background = background_from_video(args.video, config, size=work.work if work.reduced else None)
         for w in caught:
             print(f"upperpose features: warning: {w.message}")
     joints = predicted_joints(args.poses, args.frame) if args.poses else None
     extract = FeatureExtractor(background, config)
     if previous is not None:
         extract.prime(previous)
-    features = extract(frame, joints)
+    features = extract(frame, None if joints is None else work.to_work(joints))
     title = f"{Path(args.video).name}  frame {args.frame}  skin rule: {args.skin}"
+    if work.reduced:
+        title += f"  (tracked at {work.work[0]}x{work.work[1]})"
     path = write_image(args.output, contact_sheet(frame, features, background, title))
     print(f"wrote {path}")
     return 0

@@ -85,6 +85,12 @@ class WorkSize:
         mapped: FloatArray = (np.asarray(points, dtype=np.float64) + 0.5) / np.array([sx, sy]) - 0.5
         return mapped
 
+    def to_work(self, points: FloatArray) -> FloatArray:
+        """`(N, 2)` video pixels as working-size pixels."""
+        sx, sy = self.scales
+        mapped: FloatArray = (np.asarray(points, dtype=np.float64) + 0.5) * np.array([sx, sy]) - 0.5
+        return mapped
+
     def result(self, result: TrackResult) -> TrackResult:
         """A result of the working-size tracker with its 2D joints in video pixels."""
         if not self.reduced or result.joints_2d is None:
