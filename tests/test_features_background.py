@@ -17,7 +17,7 @@ from upperpose.features import (
     compute_features,
     estimate_background,
 )
-from upperpose.features.background import iterative_masked_median, masked_median, median_pair
+from upperpose.features.background import iterative_masked_median, masked_median, median_pair, showing_the_room
 from upperpose.features.config import PersonTemplate
 from upperpose.features.parallel import THREADS_ENV, worker_count
 from upperpose.features.person_cut import find_face, grabcut_seed, person_in_median, with_bare_arms
@@ -123,6 +123,21 @@ def test_empty_lead_in_gives_the_plate_and_warns() -> None:
         background = estimate_background(frames[:30], frames[::3])
     assert background.estimated and background.method == "lead-in median"
     assert error(background.plate, plate).max() <= 6
+
+
+def test_black_first_frames_are_not_the_room() -> None:
+    # A webcam's first frames are often black (or a recording fades in): a still, empty
+    # lead-in, but not the room that the rest of the video shows.
+    plate = textured_background(H, W, seed=4)
+    black = np.zeros_like(plate)
+    frames = [black] * 12 + moving_square_frames(plate, 60, start=0)
+    with pytest.warns(CleanPlateWarning):
+        background = estimate_background(frames[:30], frames[::3])
+    assert background.method != "lead-in median"
+    off = error(background.plate, plate) > 12
+    assert np.median(error(background.plate, plate)) <= 2 and off.mean() < 0.2  # a black plate: all off
+    kept = showing_the_room(frames[::3], FeatureConfig())
+    assert len(kept) == 20 and not any(f is black for f in kept)
 
 
 def test_person_from_first_frame_falls_back_to_masked_median() -> None:

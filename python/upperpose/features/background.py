@@ -39,6 +39,11 @@ class CleanPlateWarning(UserWarning):
     """The background was estimated from the video; a photo of the empty scene is better."""
 
 
+# Share of a frame beyond which it does not show the video's room: a person covers well under
+# half of the frame.
+NOT_THE_ROOM = 0.5
+
+
 def square(size: int) -> npt.NDArray[np.uint8] | None:
     """A `size` x `size` structuring element, or None for sizes below 2 (no operation)."""
     return np.ones((size, size), np.uint8) if size >= 2 else None
@@ -258,6 +263,27 @@ def static_prefix(lead: Sequence[Frame], config: FeatureConfig) -> int:
     return len(lead)
 
 
+def showing_the_room(frames: list[Frame], config: FeatureConfig) -> list[Frame]:
+    """The frames that show the room most of the video shows.
+
+    Each kept frame differs from the frames' median (on a sparse grid) in less than
+    `NOT_THE_ROOM` of its pixels, where a person stands. A webcam's black first frames, a fade,
+    a flash or a cut differ from it almost everywhere, and where the person masks most samples
+    out of the median they would take over. All frames are kept when fewer than three pass.
+    """
+    if len(frames) < 3:
+        return frames
+    grid = np.stack([f[::4, ::4] for f in frames])
+    median = median_pair(grid)[0]
+    area = median.shape[0] * median.shape[1]
+    kept = [
+        f
+        for f, g in zip(frames, grid)
+        if cv2.countNonZero(colour_change(g, median, config.bg_threshold)) < NOT_THE_ROOM * area
+    ]
+    return kept if len(kept) >= 3 else frames
+
+
 def estimate_plate(lead: Sequence[Frame], samples: Sequence[Frame], config: FeatureConfig) -> tuple[Frame, str]:
     """Estimates the empty scene from the video's lead-in frames and frames sampled over it all.
 
@@ -277,9 +303,12 @@ def estimate_plate(lead: Sequence[Frame], samples: Sequence[Frame], config: Feat
             area = plate.shape[0] * plate.shape[1]
             changed = [cv2.countNonZero(colour_change(s, plate, config.bg_threshold)) / area for s in samples]
             someone_enters = max(changed, default=0.0) > 0.01
-            if someone_enters and not shows_a_face([lead[0], lead[n // 2], lead[n - 1]], config):
+            # The room the lead-in shows must be the room of the video: most samples differ from
+            # it only where the person is. A camera's black first frames are still and empty too.
+            the_room = bool(changed) and float(np.median(changed)) < NOT_THE_ROOM
+            if someone_enters and the_room and not shows_a_face([lead[0], lead[n // 2], lead[n - 1]], config):
                 return plate, "lead-in median"
-    plate, cut = iterative_masked_median(list(samples) + list(lead[:1]), config)
+    plate, cut = iterative_masked_median(showing_the_room(list(samples) + list(lead[:1]), config), config)
     return plate, "masked median, person cut out" if cut else "masked median"
 
 
