@@ -164,6 +164,25 @@ def test_the_tracker_learns_the_room_and_tracks_without_a_plate() -> None:
     assert wrong < compressed + 0.01, (wrong, compressed)
 
 
+def test_black_first_frames_do_not_become_the_room() -> None:
+    # A webcam's first frames are often black: the model that started from one starts again
+    # from the first frame that shows another scene, and the run goes as without them.
+    folder = clip()
+    gt = truth(folder)
+    plate = np.asarray(upperpose.io.video.read_background(folder / "background.png", (H, W)))
+    frames = clip_frames(folder)
+    runs = []
+    for lead in (0, 6):
+        tracker = Tracker(camera_of(folder), None, fps=15.0, fitter=TruthFitter(gt))
+        black = [tracker.update(np.zeros_like(frames[0])) for _ in range(lead)]
+        assert all(r.status == NO_PERSON for r in black)
+        runs.append(([tracker.update(frame).status for frame in frames], tracker.background))
+    (plain, _), (after_black, background) = runs
+    assert after_black.count(TRACKED) >= plain.count(TRACKED) - 2 > 20
+    threshold = FeatureConfig().sub_threshold
+    assert background is not None and (error(background.plate, plate) > threshold).mean() < 0.05
+
+
 def ghosted(plate: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """`plate` with a shirt-coloured patch in its top-left corner (a ghost of the person), and
     the patch's mask."""

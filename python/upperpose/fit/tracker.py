@@ -23,6 +23,7 @@ import numpy.typing as npt
 from upperpose._upperpose import joint_limits
 from upperpose.exceptions import InputError
 from upperpose.features import Background, FeatureConfig, FeatureExtractor, FrameFeatures, skin_mask
+from upperpose.features.background import NOT_THE_ROOM
 from upperpose.features.checks import check_frame
 from upperpose.features.faces import face_centre, faces_near
 from upperpose.features.online import OnlineBackground, body_region
@@ -277,6 +278,12 @@ class Tracker:
         model has seen the room.
         """
         online, features = cast(OnlineBackground, self._online), self._features
+        if features is not None and not self.state.has_person and not self._refines_estimate:
+            if cv2.countNonZero(features.sub) >= NOT_THE_ROOM * features.sub.size:
+                # Nobody tracked and most of the frame is not the model's room: a webcam's black
+                # first frames, a fade, a cut. Start again from this frame.
+                self._start_background(frame)
+                return
         faces, left = self._held_faces
         self._held_faces = (faces, left - 1) if left > 1 else ([], 0)
         if self._labels is not None:
