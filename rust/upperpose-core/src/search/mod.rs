@@ -484,7 +484,7 @@ fn arm_points(skel: &Skeleton, side: Side) -> [Vector3<f64>; 5] {
 }
 
 /// The trunk's points: the head ellipsoid's centre, the centre of the head, the neck's base.
-fn trunk_points(skel: &Skeleton) -> [Vector3<f64>; 3] {
+fn trunk_top_points(skel: &Skeleton) -> [Vector3<f64>; 3] {
     [
         skel.head,
         skel.joints()[Joint::Head as usize],
@@ -597,7 +597,7 @@ impl StageSetup<'_> {
             Some(side) => near_camera(&arm_points(skel, side)),
             None => {
                 let whole = skeleton_from_pose(pose, root, &self.req.body);
-                near_camera(&trunk_points(&whole))
+                near_camera(&trunk_top_points(&whole))
                     || [Side::Right, Side::Left]
                         .into_iter()
                         .zip(self.base_arms_clear)
