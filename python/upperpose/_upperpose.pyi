@@ -13,6 +13,7 @@ __all__ = [
     "FrameFit",
     "SearchConfig",
     "JOINT_NAMES",
+    "MIN_JOINT_DEPTH",
     "PART_NAMES",
     "InputError",
     "SearchError",
