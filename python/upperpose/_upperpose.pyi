@@ -23,6 +23,7 @@ __all__ = [
     "forward_kinematics",
     "joint_limits",
     "penetrates",
+    "reaching_camera",
     "render_labels",
     "render_masks",
     "skeleton",
@@ -145,6 +146,9 @@ def solids(
     pose: npt.NDArray[np.float64], root: npt.NDArray[np.float64], body: BodyModel
 ) -> list[dict[str, object]]: ...
 def penetrates(pose: npt.NDArray[np.float64], root: npt.NDArray[np.float64], body: BodyModel) -> bool: ...
+def reaching_camera(
+    pose: npt.NDArray[np.float64], root: npt.NDArray[np.float64], body: BodyModel, camera: Camera
+) -> list[str]: ...
 def joint_limits(preset: _Limits = "anatomical") -> list[list[tuple[float, float]]]: ...
 def render_masks(
     pose: npt.NDArray[np.float64],

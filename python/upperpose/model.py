@@ -158,10 +158,6 @@ def penetrates(pose: PoseLike, root: npt.ArrayLike, body: BodyModel | None = Non
     return _upperpose.penetrates(pose_array(pose), as_float_array(root, "root", (3,)), body or BodyModel())
 
 
-# Model points and joints per part, JOINT_NAMES indices: the head; shoulder, elbow, hand.
-_PART_POINTS = {"torso": [0], "right_arm": [1, 3, 5], "left_arm": [2, 4, 6]}
-
-
 def reaching_camera(pose: PoseLike, root: npt.ArrayLike, body: BodyModel, camera: Camera) -> tuple[str, ...]:
     """The parts ("torso", "right_arm", "left_arm") too near a perspective camera.
 
@@ -169,11 +165,7 @@ def reaching_camera(pose: PoseLike, root: npt.ArrayLike, body: BodyModel, camera
     the search rejects such candidates (the joint projects far outside the image, or not at
     all). Empty for the other cameras, whose projection does not depend on the depth.
     """
-    if camera.kind != "perspective":
-        return ()
-    points = skeleton(pose, root, body)
-    depth = np.minimum(points["model_points"][:, 2], points["joints"][:, 2])
-    return tuple(part for part, rows in _PART_POINTS.items() if bool(np.any(depth[rows] < MIN_JOINT_DEPTH)))
+    return tuple(_upperpose.reaching_camera(pose_array(pose), as_float_array(root, "root", (3,)), body, camera))
 
 
 def check_camera_fits(camera: Camera, width: int, height: int) -> None:

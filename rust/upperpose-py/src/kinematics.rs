@@ -5,12 +5,13 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use upperpose_core::nalgebra::Matrix3;
 use upperpose_core::search::constraints::pose_penetrates;
+use upperpose_core::search::parts_reaching_camera;
 use upperpose_core::solid::{solid_of_part, Solid};
 use upperpose_core::{skeleton_from_pose, Dof, JointLimits, Part, Skeleton, PART_NAMES};
 
 use crate::convert::{array_from_points, pose_from_array, vector3_from_array};
 use crate::errors;
-use crate::model::PyBodyModel;
+use crate::model::{PyBodyModel, PyCamera};
 
 fn posed(
     pose: &PyReadonlyArray1<'_, f64>,
@@ -106,6 +107,31 @@ pub fn penetrates_py(
     let pose = pose_from_array(&pose)?;
     let root = vector3_from_array("root", &root)?;
     Ok(pose_penetrates(&pose, &root, &body.inner))
+}
+
+/// The parts ("torso", "right_arm", "left_arm") with a model point or joint nearer a
+/// perspective camera than `MIN_JOINT_DEPTH`: the search rejects such candidates. Empty for
+/// the other cameras, whose projection does not depend on the depth.
+///
+/// Args:
+///     pose: `(13,)` float64 joint angles in radians.
+///     root: `(3,)` float64 root position in metres.
+///     body: body dimensions.
+///     camera: the camera.
+#[pyfunction(name = "reaching_camera")]
+pub fn reaching_camera_py(
+    pose: PyReadonlyArray1<'_, f64>,
+    root: PyReadonlyArray1<'_, f64>,
+    body: &PyBodyModel,
+    camera: &PyCamera,
+) -> PyResult<Vec<&'static str>> {
+    let skel = posed(&pose, &root, body)?;
+    let near = parts_reaching_camera(&skel, &camera.inner);
+    Ok(["torso", "right_arm", "left_arm"]
+        .into_iter()
+        .zip(near)
+        .filter_map(|(part, n)| n.then_some(part))
+        .collect())
 }
 
 /// The body model's solids for a pose, one dict per part in `PART_NAMES` order.

@@ -30,6 +30,7 @@ fn _upperpose(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(kinematics::skeleton_py, m)?)?;
     m.add_function(wrap_pyfunction!(kinematics::solids_py, m)?)?;
     m.add_function(wrap_pyfunction!(kinematics::penetrates_py, m)?)?;
+    m.add_function(wrap_pyfunction!(kinematics::reaching_camera_py, m)?)?;
     m.add_function(wrap_pyfunction!(kinematics::joint_limits_py, m)?)?;
     m.add_function(wrap_pyfunction!(render::render_masks_py, m)?)?;
     m.add_function(wrap_pyfunction!(render::render_labels_py, m)?)?;

@@ -460,6 +460,19 @@ fn may_reach_camera(camera: &Camera, root: &Vector3<f64>, body: &BodyModel) -> b
     camera.is_perspective() && root.z - arm.max(head) < MIN_JOINT_DEPTH
 }
 
+/// Which parts of a posed body (trunk, right arm, left arm) have a point nearer a perspective
+/// camera than `MIN_JOINT_DEPTH`, the points the search checks (none for other cameras).
+pub fn parts_reaching_camera(skel: &Skeleton, camera: &Camera) -> [bool; 3] {
+    if !camera.is_perspective() {
+        return [false; 3];
+    }
+    [
+        near_camera(&trunk_top_points(skel)),
+        near_camera(&arm_points(skel, Side::Right)),
+        near_camera(&arm_points(skel, Side::Left)),
+    ]
+}
+
 /// Whether any of `points` lies nearer the camera than `MIN_JOINT_DEPTH`.
 fn near_camera(points: &[Vector3<f64>]) -> bool {
     points.iter().any(|p| p.z < MIN_JOINT_DEPTH)
