@@ -164,6 +164,7 @@ SEARCH_FIELDS = {
     "sigma": numbers,
     "behind_weight": numbers,
     "turn_weight": numbers,
+    "lean_weight": numbers,
     "rotation_weight": numbers,
     "row_steps": st.tuples(integers, integers, integers),
     "weights": st.dictionaries(st.sampled_from(["sil", "edge", "arm", "elbow"]), numbers, max_size=2),

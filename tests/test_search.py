@@ -229,6 +229,7 @@ def test_search_config_checks_and_reports_its_settings() -> None:
     assert c.weights["edge"] == 3.0 and c.weights["sil"] == upperpose.SearchConfig().weights["sil"]
     assert upperpose.SearchConfig(behind_weight=0.0, behind_margin=0.3).behind_margin == 0.3
     assert (upperpose.SearchConfig().turn_weight, upperpose.SearchConfig(turn_weight=0.5).turn_weight) == (2.0, 0.5)
+    assert (upperpose.SearchConfig().lean_weight, upperpose.SearchConfig(lean_weight=0.0).lean_weight) == (40.0, 0.0)
     assert (upperpose.SearchConfig().rotation_weight, upperpose.SearchConfig(rotation_weight=0.0).rotation_weight) == (
         1.0,
         0.0,
@@ -248,6 +249,7 @@ def test_search_config_checks_and_reports_its_settings() -> None:
         ({"c0": -1.0}, "c0 must be > 0"),
         ({"behind_weight": -1.0}, "behind_weight must be >= 0"),
         ({"turn_weight": float("nan")}, "turn_weight must be >= 0"),
+        ({"lean_weight": -1.0}, "lean_weight must be >= 0"),
         ({"rotation_weight": -0.5}, "rotation_weight must be >= 0"),
     ]:
         with pytest.raises(ValueError, match=message):

@@ -192,6 +192,7 @@ class SearchConfig:
         behind_weight: float | None = None,
         behind_margin: float | None = None,
         turn_weight: float | None = None,
+        lean_weight: float | None = None,
         rotation_weight: float | None = None,
         mask_other_arm_edges: bool = True,
         sil_by_part_area: bool = True,
@@ -225,6 +226,8 @@ class SearchConfig:
     def behind_margin(self) -> float: ...
     @property
     def turn_weight(self) -> float: ...
+    @property
+    def lean_weight(self) -> float: ...
     @property
     def rotation_weight(self) -> float: ...
     @property

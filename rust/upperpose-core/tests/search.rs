@@ -6,7 +6,7 @@ use nalgebra::{Vector2, Vector3};
 use proptest::prelude::*;
 use upperpose_core::image::{FrameView, SkinPoints};
 use upperpose_core::search::{
-    fit_frame, FrameFit, FrameRequest, Mode, Optimizer, SearchConfig, MIN_JOINT_DEPTH,
+    fit_frame, unseen_share, FrameFit, FrameRequest, Mode, Optimizer, SearchConfig, MIN_JOINT_DEPTH,
 };
 use upperpose_core::{
     skeleton_from_pose, BitMask, BodyModel, BodyRaster, Camera, Dof, Joint, Pose, Roi,
@@ -533,6 +533,78 @@ fn the_turn_prior_pulls_the_torso_towards_the_camera() {
     let held = fit(1000.0);
     assert!((free - 0.3).abs() < 0.03, "without the prior: {free}");
     assert!(held.abs() < 0.03, "with it: {held}");
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+
+    #[test]
+    fn unseen_share_is_the_part_of_an_upright_torso_outside_the_image(
+        y in -0.4f64..0.8,
+        z in 0.8f64..3.0,
+    ) {
+        // An upright torso's axis runs straight down from `torso_top` above the root to
+        // `torso_bottom` below it; the image's top and bottom edges cut it at
+        // Y = -cy z / f and Y = (H - cy) z / f.
+        let body = BodyModel::default();
+        let root = Vector3::new(0.0, y, z);
+        let skel = skeleton_from_pose(&Pose::default(), &root, &body);
+        let (top, bottom) = (y - body.torso_top, y + body.torso_bottom);
+        let (upper_edge, lower_edge) = (-239.5 * z / 640.0, (f64::from(H) - 239.5) * z / 640.0);
+        let length = bottom - top;
+        let outside = ((upper_edge - top).clamp(0.0, length) + (bottom - lower_edge).clamp(0.0, length)) / length;
+        let share = unseen_share(&skel, &body, &camera(), W, H);
+        // The axis is sampled at 16 points: the share is within a sample of each cut.
+        prop_assert!((share - outside.min(1.0)).abs() <= 2.0 / 16.0, "share {} outside {}", share, outside);
+    }
+}
+
+#[test]
+fn the_lean_prior_acts_only_where_the_image_cuts_the_trunk_off() {
+    // Ideal features of a torso leaning 0.3 rad towards the camera. Seen whole, the lean is
+    // found even under an overwhelming prior; with the hips below the image (a person near the
+    // camera), the same prior holds the torso upright, and without it the lean is found.
+    let body = BodyModel::default();
+    let fit = |root: Vector3<f64>, lean_weight: f64| {
+        let mut truth = test_poses()[0];
+        truth.set(Dof::TorsoX, 0.3);
+        let f = features_of(&truth, &root, &body, &camera());
+        let mut prediction = truth;
+        prediction.set(Dof::TorsoX, 0.15);
+        let mut req = request(&f, prediction, root, Mode::Trajectory);
+        req.window_scale = 4.0; // the lean's window reaches 0 and 0.3
+        req.search = [true, false, false];
+        let config = SearchConfig {
+            lean_weight,
+            ..SearchConfig::default()
+        };
+        fit_frame(&req, &config).unwrap().pose.get(Dof::TorsoX)
+    };
+    let whole = Vector3::new(0.0, 0.12, 2.2);
+    let near = Vector3::new(0.0, 0.2, 1.0);
+    let (seen, cut) = (
+        unseen_share(
+            &skeleton_from_pose(&Pose::default(), &whole, &body),
+            &body,
+            &camera(),
+            W,
+            H,
+        ),
+        unseen_share(
+            &skeleton_from_pose(&Pose::default(), &near, &body),
+            &body,
+            &camera(),
+            W,
+            H,
+        ),
+    );
+    assert!(seen == 0.0 && cut > 0.3, "unseen shares {seen}, {cut}");
+    let found = fit(whole, 1000.0);
+    assert!((found - 0.3).abs() < 0.03, "seen whole: {found}");
+    let held = fit(near, 1000.0);
+    assert!(held.abs() < 0.05, "cut off, with the prior: {held}");
+    let free = fit(near, 0.0);
+    assert!((free - 0.3).abs() < 0.03, "cut off, without it: {free}");
 }
 
 #[test]

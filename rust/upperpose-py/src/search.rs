@@ -58,6 +58,9 @@ fn terms_values(t: &CostTerms) -> [f64; 7] {
 ///     behind_margin: arm lengths a hand may lie behind the shoulder for free.
 ///     turn_weight: weight of the prior towards a torso facing the camera (per squared radian
 ///         of turn); 0 turns it off.
+///     lean_weight: weight of the prior towards an upright torso (per squared radian of
+///         `torso_x`, times the share of the torso's axis outside the image; default 40); 0
+///         turns it off.
 ///     rotation_weight: weight of the prior towards an upper arm not rotated about its own axis
 ///         (per squared radian of `y_up`, less as the elbow bends; default 1); 0 turns it off.
 ///     mask_other_arm_edges: an arm's Edge and Motion get no credit for pixels under the other
@@ -81,7 +84,7 @@ impl PySearchConfig {
                         weights = None, limits = "anatomical", non_penetration = true, threads = None, seed = None,
                         root_window = None, initial_root_window = None, row_steps = None, optimizer = "apso",
                         sigma = None, behind_weight = None, behind_margin = None,
-                        turn_weight = None, rotation_weight = None, mask_other_arm_edges = true, sil_by_part_area = true,
+                        turn_weight = None, lean_weight = None, rotation_weight = None, mask_other_arm_edges = true, sil_by_part_area = true,
                         merged_skin = true))]
     #[allow(clippy::too_many_arguments)] // one keyword argument per setting
     fn new(
@@ -103,6 +106,7 @@ impl PySearchConfig {
         behind_weight: Option<f64>,
         behind_margin: Option<f64>,
         turn_weight: Option<f64>,
+        lean_weight: Option<f64>,
         rotation_weight: Option<f64>,
         mask_other_arm_edges: bool,
         sil_by_part_area: bool,
@@ -162,6 +166,7 @@ impl PySearchConfig {
             (behind_weight, &mut c.behind_weight),
             (behind_margin, &mut c.behind_margin),
             (turn_weight, &mut c.turn_weight),
+            (lean_weight, &mut c.lean_weight),
             (rotation_weight, &mut c.rotation_weight),
         ] {
             if let Some(v) = v {
@@ -246,6 +251,10 @@ impl PySearchConfig {
     #[getter]
     fn turn_weight(&self) -> f64 {
         self.inner.turn_weight
+    }
+    #[getter]
+    fn lean_weight(&self) -> f64 {
+        self.inner.lean_weight
     }
     #[getter]
     fn rotation_weight(&self) -> f64 {

@@ -129,6 +129,11 @@ pub struct SearchConfig {
     /// Weight of the prior towards a torso facing the camera: added to the torso stage's cost
     /// per squared radian of turn (`torso_y`). 0 turns it off.
     pub turn_weight: f64,
+    /// Weight of the prior towards an upright torso (`torso_x`), per squared radian, times
+    /// the share of the torso's axis the image does not show: with the hips below the frame
+    /// (a person near the camera) the lean is free to stretch the model's perspective onto
+    /// the person's outline. 0 turns it off.
+    pub lean_weight: f64,
     /// Weight of the prior towards an upper arm not rotated about its own axis: added to an
     /// arm stage's cost per squared radian of `y_up`, times `(1 + cos x_down) / 2` (full with
     /// the elbow straight, where the rotation is invisible; half at a right angle). 0 turns
@@ -164,6 +169,7 @@ impl Default for SearchConfig {
             behind_weight: 2.0,
             behind_margin: 0.2,
             turn_weight: 2.0,
+            lean_weight: 40.0,
             rotation_weight: 1.0,
             mask_other_arm_edges: true,
             sil_by_part_area: true,
@@ -245,6 +251,7 @@ impl SearchConfig {
             ("behind_weight", self.behind_weight),
             ("behind_margin", self.behind_margin),
             ("turn_weight", self.turn_weight),
+            ("lean_weight", self.lean_weight),
             ("rotation_weight", self.rotation_weight),
         ] {
             if !(value >= 0.0 && value.is_finite()) {
@@ -505,6 +512,30 @@ fn trunk_top_points(skel: &Skeleton) -> [Vector3<f64>; 3] {
     ]
 }
 
+/// Share of the torso's axis (top to bottom of its cylinder, sampled at `AXIS_SAMPLES`
+/// points) that projects outside a `width` x `height` image or not at all.
+pub fn unseen_share(
+    skel: &Skeleton,
+    body: &BodyModel,
+    camera: &Camera,
+    width: u32,
+    height: u32,
+) -> f64 {
+    const AXIS_SAMPLES: usize = 16;
+    let down = skel.torso.column(1).into_owned();
+    let top = skel.root - down * body.torso_top;
+    let length = body.torso_top + body.torso_bottom;
+    let unseen = (0..AXIS_SAMPLES)
+        .filter(|&k| {
+            let p = top + down * (length * (k as f64 + 0.5) / AXIS_SAMPLES as f64);
+            camera.project(&p).is_none_or(|q| {
+                !(q.x >= 0.0 && q.y >= 0.0 && q.x < f64::from(width) && q.y < f64::from(height))
+            })
+        })
+        .count();
+    unseen as f64 / AXIS_SAMPLES as f64
+}
+
 /// Everything one stage needs to score candidates.
 struct StageSetup<'a> {
     stage: Stage,
@@ -524,6 +555,8 @@ struct StageSetup<'a> {
     may_reach_camera: bool,
     /// Whether each arm (right, left) of the base keeps `MIN_JOINT_DEPTH` from the camera.
     base_arms_clear: [bool; 2],
+    /// Share of the base torso's axis outside the image (`unseen_share`).
+    unseen_trunk: f64,
 }
 
 impl StageSetup<'_> {
@@ -626,7 +659,10 @@ impl StageSetup<'_> {
     fn rest(&self, pose: &Pose) -> f64 {
         let c = &self.config;
         match self.stage {
-            Stage::Torso => c.turn_weight * pose.get(Dof::TorsoY).powi(2),
+            Stage::Torso => {
+                c.turn_weight * pose.get(Dof::TorsoY).powi(2)
+                    + c.lean_weight * self.unseen_trunk * pose.get(Dof::TorsoX).powi(2)
+            }
             Stage::RightArm => {
                 Self::rotation(c.rotation_weight, pose, Dof::RightYUp, Dof::RightXDown)
             }
@@ -797,6 +833,7 @@ fn run_stage(
         may_reach_camera: may_reach_camera(&req.camera, root, b),
         base_arms_clear: [Side::Right, Side::Left]
             .map(|side| !near_camera(&arm_points(&skel, side))),
+        unseen_trunk: unseen_share(&skel, b, &req.camera, req.frame.width, req.frame.height),
     };
     let mut evaluations = 0;
     if req.search[stage as usize] {

@@ -86,6 +86,7 @@ pub fn effective(config: &SearchConfig) -> Cow<'_, SearchConfig> {
             };
             c.behind_weight = 0.0;
             c.turn_weight = 0.0;
+            c.lean_weight = 0.0;
             c.rotation_weight = 0.0;
             Cow::Owned(c)
         }
