@@ -275,6 +275,15 @@ fn same_seed_same_fit_whatever_the_thread_count() {
     assert_eq!(fit(4), one);
 }
 
+fn nearest_depth(pose: &Pose, root: &Vector3<f64>, body: &BodyModel) -> f64 {
+    let skel = skeleton_from_pose(pose, root, body);
+    skel.model_points()
+        .iter()
+        .chain(skel.joints().iter())
+        .map(|p| p.z)
+        .fold(f64::INFINITY, f64::min)
+}
+
 proptest! {
     #![proptest_config(ProptestConfig { cases: 24, failure_persistence: None, ..ProptestConfig::default() })]
     #[test]
@@ -293,19 +302,7 @@ proptest! {
         prop_assert!(config.limits.contains(&fit.pose));
         prop_assert!(!upperpose_core::search::constraints::pose_penetrates(&fit.pose, &fit.root, &body) || upperpose_core::search::constraints::pose_penetrates(&truth, &root, &body));
     }
-}
 
-fn nearest_depth(pose: &Pose, root: &Vector3<f64>, body: &BodyModel) -> f64 {
-    let skel = skeleton_from_pose(pose, root, body);
-    skel.model_points()
-        .iter()
-        .chain(skel.joints().iter())
-        .map(|p| p.z)
-        .fold(f64::INFINITY, f64::min)
-}
-
-proptest! {
-    #![proptest_config(ProptestConfig { cases: 24, failure_persistence: None, ..ProptestConfig::default() })]
     #[test]
     fn no_fit_reaches_through_the_camera(seed in 0u64..1000, lean in -0.4..0.6f64, xu in 0.0..1.6f64, xd in 0.0..2.4f64) {
         // A person filming themselves at arm's length: the root 0.5 m from the camera, arms

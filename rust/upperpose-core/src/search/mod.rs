@@ -555,7 +555,8 @@ struct StageSetup<'a> {
     may_reach_camera: bool,
     /// Whether each arm (right, left) of the base keeps `MIN_JOINT_DEPTH` from the camera.
     base_arms_clear: [bool; 2],
-    /// Share of the base torso's axis outside the image (`unseen_share`).
+    /// Share of the base torso's axis outside the image (`unseen_share`); the torso stage's
+    /// only, and only with a lean prior to weigh.
     unseen_trunk: f64,
 }
 
@@ -833,7 +834,11 @@ fn run_stage(
         may_reach_camera: may_reach_camera(&req.camera, root, b),
         base_arms_clear: [Side::Right, Side::Left]
             .map(|side| !near_camera(&arm_points(&skel, side))),
-        unseen_trunk: unseen_share(&skel, b, &req.camera, req.frame.width, req.frame.height),
+        unseen_trunk: if stage == Stage::Torso && config.lean_weight > 0.0 {
+            unseen_share(&skel, b, &req.camera, req.frame.width, req.frame.height)
+        } else {
+            0.0
+        },
     };
     let mut evaluations = 0;
     if req.search[stage as usize] {
