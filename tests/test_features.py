@@ -8,6 +8,7 @@ import pytest
 
 from upperpose import Pose
 from upperpose.features import (
+    POINT_ABSENT,
     POINT_FOUND,
     POINT_MERGED,
     Background,
@@ -150,6 +151,23 @@ def test_hand_on_face_is_merged(plate, background) -> None:
     assert not features.left_hand.merged
     np.testing.assert_array_equal(features.point_status(), [POINT_MERGED, POINT_MERGED, POINT_FOUND])
     assert np.isnan(features.points_array()[:2]).all()
+
+
+def test_a_hand_predicted_out_of_the_image_is_boxed_beyond_the_border(background, two_frames) -> None:
+    # The right hand predicted far beyond the left border, with no skin in its gate: the cost is
+    # given the band beyond that border (the search keeps the hand out until its skin returns);
+    # it is still an absent point, not a measurement.
+    first, _ = two_frames
+    predicted = first.joints.copy()
+    predicted[5] = (-600.0, 300.0)
+    features = compute_features(first.frame, background, predicted_joints=predicted)
+    assert features.right_hand is None and features.left_hand is not None
+    assert features.hands_beyond == ((-640.5, -480.5, -0.5, 959.5), None)
+    assert features.point_status()[1] == POINT_ABSENT
+    np.testing.assert_array_equal(features.merged_boxes_array()[1], [-640.5, -480.5, -0.5, 959.5])
+    assert np.isnan(features.merged_boxes_array()[2]).all() and np.isnan(features.points_array()[1]).all()
+    # Without a prediction (start-up) nothing is beyond.
+    assert compute_features(first.frame, background).hands_beyond == (None, None)
 
 
 def test_static_skin_coloured_object_gives_no_blob(plate) -> None:

@@ -9,6 +9,7 @@ from hypothesis import strategies as st
 
 from upperpose.features import FeatureConfig, find_skin_blobs, locate_points
 from upperpose.features.blobs import is_shade
+from upperpose.features.points import beyond_image, hands_beyond_image
 
 CONFIG = FeatureConfig()
 
@@ -123,6 +124,37 @@ def test_a_hand_cut_by_the_border_is_a_box_beyond_it() -> None:
     inside = joints((320, 100), (150, 400), (458, 125), left_elbow=(448, 230))
     _, _, left = locate_points(blobs_of(face, bar((450, 220), (460, 120), 22)), inside, CONFIG, size=(480, 640))
     assert not left.merged and left.box is None
+
+
+def test_a_hand_predicted_out_of_the_image_without_skin_is_kept_beyond_the_border() -> None:
+    # A hand that left the frame by the bottom (a person near a webcam) shows no skin: its box is
+    # the band beyond the bottom border, a frame's size deep and wide on either side of the image.
+    # A hand with no skin predicted inside the image (a sleeve, a hand behind the back) gets none.
+    blobs = blobs_of(face)
+    prediction = joints((320, 100), (200, 700), (500, 300))
+    right, left = (locate_points(blobs, prediction, CONFIG, size=(480, 640)))[1:]
+    assert right is None and left is None
+    assert hands_beyond_image((right, left), prediction, (480, 640)) == ((-640.5, 479.5, 1279.5, 959.5), None)
+    # The border it is farthest past: 30 px beyond the left, 10 beyond the top.
+    assert beyond_image(np.array([-30.5, -10.5]), (480, 640)) == (-640.5, -480.5, -0.5, 959.5)
+    assert beyond_image(np.array([639.0, 479.0]), (480, 640)) is None  # the last pixel is inside
+    assert beyond_image(np.array([np.nan, 700.0]), (480, 640)) is None
+    assert hands_beyond_image((right, left), None, (480, 640)) == (None, None)  # start-up: no prediction
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.floats(-2000, 2000), st.floats(-2000, 2000))
+def test_the_box_beyond_the_image_never_holds_an_image_pixel(x: float, y: float) -> None:
+    box = beyond_image(np.array([x, y]), (480, 640))
+    inside = -0.5 <= x <= 639.5 and -0.5 <= y <= 479.5
+    assert (box is None) == inside
+    if box is not None:
+        x0, y0, x1, y1 = box
+        # Its overlap with the image's extent is at most its edge on the border.
+        assert min(x1, 639.5) - max(x0, -0.5) <= 0 or min(y1, 479.5) - max(y0, -0.5) <= 0
+        # The prediction's own border band holds the prediction, when within a frame of the image.
+        if -640.5 <= x <= 1279.5 and -480.5 <= y <= 959.5:
+            assert x0 <= x <= x1 and y0 <= y <= y1
 
 
 def test_far_end_of_a_forearm_blob() -> None:

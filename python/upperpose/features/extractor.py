@@ -25,7 +25,14 @@ from upperpose.features.parts import (
     torso_region_from_shoulders,
 )
 from upperpose.features.person_skin import PersonSkin, skin_of_face
-from upperpose.features.points import HEAD, LEFT_SHOULDER, RIGHT_SHOULDER, locate_points, shoulder_width
+from upperpose.features.points import (
+    HEAD,
+    LEFT_SHOULDER,
+    RIGHT_SHOULDER,
+    hands_beyond_image,
+    locate_points,
+    shoulder_width,
+)
 from upperpose.features.skin import SkinWork, skin_mask
 from upperpose.features.split import split_head_from_hands
 
@@ -384,6 +391,7 @@ class FeatureExtractor:
             blobs, matching = split_head_from_hands(blobs, relit, joints, cfg)
         clock.lap("blobs")
         head, right_hand, left_hand = locate_points(blobs, joints, cfg, matching, size)
+        hands_beyond = hands_beyond_image((right_hand, left_hand), joints, size)
         clock.lap("points")
         flags = motion_flags(motion, labels, cfg) if labels is not None else None
         clock.lap("motion_flags")
@@ -420,6 +428,7 @@ class FeatureExtractor:
             head=head,
             right_hand=right_hand,
             left_hand=left_hand,
+            hands_beyond=hands_beyond,
             motion_flags=flags,
             timings=clock.times,
         )

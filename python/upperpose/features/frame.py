@@ -20,7 +20,7 @@ from upperpose.features.blobs import SkinBlob
 from upperpose.features.checks import Mask, check_mask
 from upperpose.features.packing import pack_rows
 from upperpose.features.parts import MotionFlag, arm_silhouette
-from upperpose.features.points import SkinPoint
+from upperpose.features.points import PixelBox, SkinPoint
 
 Bits = npt.NDArray[np.uint64]
 
@@ -40,6 +40,8 @@ class FrameFeatures:
             (and `cover_bits`, the skin the arms should cover, computed on first use).
         blobs: valid skin blobs, largest first.
         head, right_hand, left_hand: skin points (None when absent).
+        hands_beyond: per hand (right, left), for one with no skin point that the prediction puts
+            outside the image, the box beyond the border where it may lie (`beyond_image`).
         motion_flags: per-group motion flags ("torso", "right_arm", "left_arm"), or None when no
             previous projection was given (search every part).
         timings: CPU seconds per stage when timing was asked for, else empty.
@@ -62,6 +64,7 @@ class FrameFeatures:
     head: SkinPoint | None
     right_hand: SkinPoint | None
     left_hand: SkinPoint | None
+    hands_beyond: tuple[PixelBox | None, PixelBox | None] = (None, None)
     motion_flags: dict[str, MotionFlag] | None = None
     timings: dict[str, float] = dataclasses.field(default_factory=dict)
 
@@ -120,11 +123,15 @@ class FrameFeatures:
         The box is the whole blob's, or `SkinPoint.box` (the part of it where the point can
         be, which for a hand cut by the image's border reaches beyond the image); NaN rows for
         points that are absent or not merged. A merged blob gives no point for the parts it
-        holds, but it does say that they are in it.
+        holds, but it does say that they are in it. An absent hand that left the image has its
+        `hands_beyond` box.
         """
         out = np.full((3, 4), np.nan)
         for k, point in enumerate(self.points):
-            if point is not None and point.merged:
+            beyond = self.hands_beyond[k - 1] if k > 0 else None
+            if point is None and beyond is not None:
+                out[k] = beyond
+            elif point is not None and point.merged:
                 if point.box is not None:
                     out[k] = point.box
                 else:

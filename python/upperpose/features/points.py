@@ -34,6 +34,8 @@ Matching = tuple[list[int | None], list[bool]]
 # Head (face, with or without the hair) and hand areas in squared shoulder widths: a head about
 # 0.4 x 0.6 of a shoulder width, an ellipse; a hand with fingers about 0.5 x 0.2.
 PART_AREAS = (0.2, 0.1, 0.1)
+# (x0, y0, x1, y1) in pixels: where a part may be when its skin gives no point.
+PixelBox = tuple[float, float, float, float]
 # Indices into JOINT_NAMES.
 HEAD, RIGHT_SHOULDER, LEFT_SHOULDER, RIGHT_ELBOW, LEFT_ELBOW, RIGHT_HAND, LEFT_HAND = range(7)
 
@@ -57,7 +59,7 @@ class SkinPoint:
     xy: tuple[float, float]
     merged: bool
     blob: int
-    box: tuple[float, float, float, float] | None = None
+    box: PixelBox | None = None
 
 
 def unit(vector: npt.NDArray[np.float64]) -> npt.NDArray[np.float64] | None:
@@ -83,7 +85,7 @@ def far_end(blob: SkinBlob, direction: npt.NDArray[np.float64], length: float) -
 
 def beyond_border(
     xs: npt.NDArray[np.int64], ys: npt.NDArray[np.int64], size: tuple[int, int], reach: float
-) -> tuple[float, float, float, float] | None:
+) -> PixelBox | None:
     """Where a hand whose far end (pixels `xs`, `ys`) touches the image's border may lie, or None.
 
     A hand cut by the border (raised out of the frame) has its visible end on the border, not
@@ -105,6 +107,34 @@ def beyond_border(
         x1 + width if right else x1,
         y1 + height if bottom else y1,
     )
+
+
+def beyond_image(xy: npt.NDArray[np.float64], size: tuple[int, int]) -> PixelBox | None:
+    """Where a hand predicted at `xy` outside the image, with no skin of its own in it, may lie; or None.
+
+    A hand that left the frame shows nothing, and nothing else says where it is: the box is the
+    band a frame's size deep beyond the border the prediction is farthest past, a frame's size
+    wider than the image on either side, so that the fit keeps the hand out of the image until
+    its skin comes back. None when `xy` is in the image (pixel centres at integers) or not finite.
+    """
+    height, width = size
+    x, y = float(xy[0]), float(xy[1])
+    if not (math.isfinite(x) and math.isfinite(y)):
+        return None
+    past = {"left": -0.5 - x, "top": -0.5 - y, "right": x - (width - 0.5), "bottom": y - (height - 0.5)}
+    side, depth = max(past.items(), key=lambda kv: kv[1])
+    if depth <= 0:
+        return None
+    x0, y0, x1, y1 = -0.5 - width, -0.5 - height, width - 0.5 + width, height - 0.5 + height
+    if side == "left":
+        x1 = -0.5
+    elif side == "right":
+        x0 = width - 0.5
+    elif side == "top":
+        y1 = -0.5
+    else:
+        y0 = height - 0.5
+    return (x0, y0, x1, y1)
 
 
 def head_centre(blob: SkinBlob, direction: npt.NDArray[np.float64], length: float) -> tuple[float, float]:
@@ -189,9 +219,7 @@ def assign(
     return matched, merged
 
 
-def clear_of(
-    blob: SkinBlob, centre: npt.NDArray[np.float64], radius: float
-) -> tuple[float, float, float, float] | None:
+def clear_of(blob: SkinBlob, centre: npt.NDArray[np.float64], radius: float) -> PixelBox | None:
     """Bounding box (x0, y0, x1, y1) of the blob's pixels farther than `radius` from `centre`.
 
     None when there are none. A hand merged with the face lies in the blob but not at the
@@ -363,6 +391,18 @@ def points_at_startup(blobs: list[SkinBlob], config: FeatureConfig) -> list[Skin
         xy = far_end(blob, direction, config.hand_length * shoulder_px) if direction is not None else blob.centroid
         points[slot] = SkinPoint(xy, False, index)
     return points
+
+
+def hands_beyond_image(
+    hands: tuple[SkinPoint | None, SkinPoint | None],
+    joints: npt.NDArray[np.float64] | None,
+    size: tuple[int, int],
+) -> tuple[PixelBox | None, PixelBox | None]:
+    """Per hand (right, left) without a skin point, `beyond_image` of its predicted position."""
+    if joints is None:
+        return (None, None)
+    right, left = (beyond_image(joints[j], size) if p is None else None for p, j in zip(hands, (RIGHT_HAND, LEFT_HAND)))
+    return (right, left)
 
 
 def locate_points(
