@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import json
 from pathlib import Path
 
@@ -148,6 +149,21 @@ def test_step_closer_and_lighting_ramp() -> None:
     plan = plan_clip(ClipConfig("point", 150, seed=4, step_closer=True, lighting_ramp=True, **SMALL))
     assert plan.roots[0, 2] - plan.roots[-1, 2] == pytest.approx(0.5, abs=0.02)
     assert plan.gains.min() < 0.7 and plan.gains[0] == 1.0
+
+
+def test_lower_stands_the_person_lower_and_nothing_else() -> None:
+    # A webcam's head-and-shoulders framing: the same clip with the person 0.24 m lower. Only the
+    # roots' y moves, by exactly that, and each joint's image row by focal * 0.24 / its depth.
+    config = ClipConfig("wave_right", 20, seed=5, depth=1.0, focal=860.0, **SMALL)
+    high, low = plan_clip(config), plan_clip(dataclasses.replace(config, lower=0.24))
+    np.testing.assert_allclose(low.roots - high.roots, np.tile([0.0, 0.24, 0.0], (20, 1)), atol=1e-12)
+    np.testing.assert_array_equal(low.angles, high.angles)
+    for i in (0, 19):
+        a, b = high.joints_3d(i), low.joints_3d(i)
+        shift = high.camera.project(b)[:, 1] - high.camera.project(a)[:, 1]
+        np.testing.assert_allclose(shift, 860.0 * 0.24 / a[:, 2], rtol=1e-9)
+    with pytest.raises(ValueError, match="lower must be within"):
+        ClipConfig("wave_right", 20, lower=float("nan"))
 
 
 def test_clip_folder_layout(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:

@@ -38,6 +38,13 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--depth", type=float, default=None, help="distance of the person, metres (default: 2.0-2.5 from the seed)"
     )
+    p.add_argument(
+        "--lower",
+        type=float,
+        default=0.0,
+        help="stand the person this many metres lower (0.24 at --depth 1 --focal 860: head and shoulders, "
+        "as a webcam frames them; default 0)",
+    )
     p.add_argument("--noise", type=float, default=2.5, help="sensor noise, grey levels (default 2.5)")
     p.add_argument("--empty-start", action="store_true", help="empty scene for a second, then the person walks in")
     p.add_argument("--lighting-ramp", action="store_true", help="the light dims and recovers")
@@ -103,6 +110,7 @@ def run(args: argparse.Namespace) -> int:
     check_number("--frames", args.frames, 1, 100_000)
     check_number("--depth", args.depth, 0.5, 20.0, "metres")
     check_number("--noise", args.noise, 0.0, 100.0, "grey levels")
+    check_number("--lower", args.lower, -1.0, 1.0, "metres")
     check_focal(args.focal)
     looks = {k: getattr(args, k) for k in ("skin", "shirt", "pattern", "sleeves", "hair", "build") if getattr(args, k)}
     appearance = None
@@ -112,7 +120,7 @@ def run(args: argparse.Namespace) -> int:
     config = ClipConfig(
         motion=args.motion, frames=args.frames, seed=args.seed, width=args.width, height=args.height, fps=args.fps,
         focal=args.focal, appearance=appearance, empty_start=args.empty_start, lighting_ramp=args.lighting_ramp,
-        step_closer=args.step_closer, noise=args.noise, depth=args.depth,
+        step_closer=args.step_closer, noise=args.noise, depth=args.depth, lower=args.lower,
     )  # fmt: skip
 
     def progress(done: int, total: int) -> None:

@@ -48,6 +48,8 @@ class ClipConfig:
         step_closer: the subject steps half a metre towards the camera after two seconds.
         noise: sensor noise, standard deviation in grey levels.
         depth: distance of the body's root from the camera, metres; drawn when None.
+        lower: metres the person stands lower than the seed puts them (camera frame, down); with
+            a long focal length, 0.2-0.3 at 1 m frames head and shoulders as a webcam does.
     """
 
     motion: str = "wave_right"
@@ -63,6 +65,7 @@ class ClipConfig:
     step_closer: bool = False
     noise: float = 2.5
     depth: float | None = None
+    lower: float = 0.0
 
     def __post_init__(self) -> None:
         if self.motion not in MOTIONS:
@@ -81,6 +84,8 @@ class ClipConfig:
             raise ValueError(f"noise must be within 0..50 grey levels, got {self.noise}")
         if self.depth is not None and not 1.0 <= self.depth <= 6.0:
             raise ValueError(f"depth must be within 1..6 metres, got {self.depth}")
+        if not -1.0 <= self.lower <= 1.0:
+            raise ValueError(f"lower must be within -1..1 metres, got {self.lower}")
 
 
 @dataclass(frozen=True)
@@ -147,7 +152,7 @@ def plan_clip(config: ClipConfig) -> ClipPlan:
     times = np.arange(n) / fps
     depth = config.depth if config.depth is not None else float(rng.uniform(2.0, 2.5))
     # Head in the upper third: the root sits a little below the optical axis.
-    base = np.array([rng.uniform(-0.12, 0.12), rng.uniform(0.1, 0.2) * depth / 2.2, depth])
+    base = np.array([rng.uniform(-0.12, 0.12), rng.uniform(0.1, 0.2) * depth / 2.2 + config.lower, depth])
     roots = np.repeat(base[None, :], n, axis=0)
     roots[:, 0] += 0.012 * np.sin(2 * np.pi * rng.uniform(0.1, 0.25) * times + rng.uniform(0, 6))
     roots[:, 1] += 0.006 * np.sin(2 * np.pi * rng.uniform(0.1, 0.25) * times + rng.uniform(0, 6))
