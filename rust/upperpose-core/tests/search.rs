@@ -505,26 +505,32 @@ fn a_fit_on_the_mirror_branch_returns_to_the_arm_in_front() {
     }
 }
 
+/// The torso stage alone, fitted to ideal features of a torso with `dof` at `value` from a
+/// prediction halfway there: the angle it finds. The windows are widened (scale 4) to reach
+/// both 0 and `value` (0.3 rad).
+fn torso_alone_fit(dof: Dof, value: f64, root: Vector3<f64>, config: &SearchConfig) -> f64 {
+    let mut truth = test_poses()[0];
+    truth.set(dof, value);
+    let f = features_of(&truth, &root, &BodyModel::default(), &camera());
+    let mut prediction = truth;
+    prediction.set(dof, value / 2.0);
+    let mut req = request(&f, prediction, root, Mode::Trajectory);
+    req.window_scale = 4.0;
+    req.search = [true, false, false];
+    fit_frame(&req, config).unwrap().pose.get(dof)
+}
+
 #[test]
 fn the_turn_prior_pulls_the_torso_towards_the_camera() {
     // Ideal features of a torso turned by 0.3 rad: without the prior the fit finds the turn,
     // with an overwhelming prior it stays facing the camera.
     let root = Vector3::new(0.0, 0.12, 2.2);
-    let body = BodyModel::default();
-    let mut truth = test_poses()[0];
-    truth.set(Dof::TorsoY, 0.3);
-    let f = features_of(&truth, &root, &body, &camera());
-    let mut prediction = truth;
-    prediction.set(Dof::TorsoY, 0.15);
-    let mut req = request(&f, prediction, root, Mode::Trajectory);
-    req.window_scale = 4.0; // the turn's window, +-0.05 rad a frame, reaches 0 and 0.35
-    req.search = [true, false, false];
     let fit = |turn_weight: f64| {
         let config = SearchConfig {
             turn_weight,
             ..SearchConfig::default()
         };
-        fit_frame(&req, &config).unwrap().pose.get(Dof::TorsoY)
+        torso_alone_fit(Dof::TorsoY, 0.3, root, &config)
     };
     let free = fit(0.0);
     let held = fit(1000.0);
@@ -566,19 +572,11 @@ fn the_lean_prior_acts_only_where_the_image_cuts_the_trunk_off() {
     // camera), the same prior holds the torso upright, and without it the lean is found.
     let body = BodyModel::default();
     let fit = |root: Vector3<f64>, lean_weight: f64| {
-        let mut truth = test_poses()[0];
-        truth.set(Dof::TorsoX, 0.3);
-        let f = features_of(&truth, &root, &body, &camera());
-        let mut prediction = truth;
-        prediction.set(Dof::TorsoX, 0.15);
-        let mut req = request(&f, prediction, root, Mode::Trajectory);
-        req.window_scale = 4.0; // the lean's window reaches 0 and 0.3
-        req.search = [true, false, false];
         let config = SearchConfig {
             lean_weight,
             ..SearchConfig::default()
         };
-        fit_frame(&req, &config).unwrap().pose.get(Dof::TorsoX)
+        torso_alone_fit(Dof::TorsoX, 0.3, root, &config)
     };
     let whole = Vector3::new(0.0, 0.12, 2.2);
     let near = Vector3::new(0.0, 0.2, 1.0);
