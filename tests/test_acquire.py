@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import dataclasses
 import functools
+from pathlib import Path
 from typing import Any
 
 import cv2
@@ -11,12 +12,15 @@ import numpy as np
 import pytest
 
 import upperpose
+from tracker_helpers import write_video
 from upperpose.exceptions import InputError
 from upperpose.features import Background, FeatureExtractor
 from upperpose.fit import NO_PERSON, TRACKED, StateMachine, StaticFit, Tracker, TrackerConfig
 from upperpose.fit.acquire import agreement, global_fit, restart_seed
+from upperpose.fit.outputs import OutputPaths, track_to_files
 from upperpose.fit.search import reseeded
 from upperpose.fit.startup import any_pose_points, startup_points
+from upperpose.io.posefile import load_poses
 from upperpose.lab.startup_frames import startup_frames
 from upperpose.lab.synth import ClipConfig, ClipPlan, motion_angles, plan_clip, render_frame
 from upperpose.lab.synth.scene import clean_plate
@@ -240,3 +244,32 @@ def test_startup_frames_of_a_pose_file() -> None:
         "stable": None,
         "pose": None,
     }
+
+
+@pytest.mark.parametrize("ends_away", [False, True])
+def test_the_pose_file_records_each_start_up_s_body(tmp_path: Path, ends_away: bool) -> None:
+    plan, frames = _rendered("return")
+    back = int(np.flatnonzero(plan.present[15:])[0]) + 15
+    kept = frames[: back - 5] if ends_away else frames  # the person still away when the video ends
+    video = write_video(tmp_path / "clip.mp4", kept, FPS)
+    cv2.imwrite(str(tmp_path / "plate.png"), clean_plate(plan))
+    out = tmp_path / "poses.json"
+    track_to_files(
+        video,
+        OutputPaths(out, bvh=tmp_path / "poses.bvh"),
+        config=TrackerConfig(),
+        background=tmp_path / "plate.png",
+        focal=plan.camera.focal,
+    )
+    doc = load_poses(out)
+    posed = [f["frame"] for f in doc["frames"] if f.get("angles") is not None]
+    starts = [f["frame"] for f in doc["bodies"]]
+    assert starts[0] == posed[0]
+    if ends_away:
+        assert len(starts) == 1
+    else:  # measured again when the person came back
+        regained = next(p for p in posed if p >= back)
+        assert starts == [posed[0], regained]
+        assert doc["bodies"][0]["body"] != doc["bodies"][1]["body"]
+    # The last posed frame's body, not the averages the tracker returns to when the person leaves.
+    assert doc["body"] == doc["bodies"][-1]["body"] != dict(upperpose.BodyModel().as_dict())

@@ -72,6 +72,9 @@ def test_track_writes_a_bvh_matching_its_pose_file(
     doc = load_poses(out)
     assert doc["upperpose_version"] == upperpose.__version__
     assert set(doc["camera"]) == {"model", "focal", "cx", "cy"} and doc["body"]["upper_arm_length"] > 0
+    # One start-up, one body throughout: the BVH's skeleton.
+    first = next(f["frame"] for f in doc["frames"] if f.get("angles") is not None)
+    assert doc["bodies"] == [{"frame": first, "body": doc["body"]}]
     largest_mm, _, posed = round_trip_mm(out, bvh)
     assert posed > 10 and largest_mm < 1.0
     assert json.loads(out.read_text())["frames"][0]["frame"] == 0

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import csv
+import dataclasses
 import json
 import shutil
 from pathlib import Path
@@ -11,9 +12,11 @@ import cv2
 import numpy as np
 import pytest
 
+import upperpose
 import upperpose.fit.tracker as tracker_module
 from tracker_helpers import TruthFitter, clip, clip_frames, one_line_error, truth, write_video
 from upperpose.cli import main
+from upperpose.fit.outputs import BodyHistory
 from upperpose.io.output import PoseRecorder, csv_header
 from upperpose.io.posefile import load_poses
 from upperpose.io.video import VideoReader
@@ -121,6 +124,22 @@ def test_writing_is_atomic(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> N
     with recorder:
         recorder.write_json(out, 1.0)
     assert [f["status"] for f in load_poses(out)["frames"]] == ["no_person", "initialising"]
+
+
+def test_body_history_records_each_body_from_its_first_posed_frame() -> None:
+    history = BodyHistory()
+    assert history.last() is None and history.records() == []
+    first, second = upperpose.BodyModel(), upperpose.BodyModel(shoulder_width=0.42, upper_arm_length=0.31)
+    posed = TrackResult(0, "tracked", np.zeros(13), np.array([0.0, 0.0, 2.0]))
+    history.see(TrackResult(0, "initialising"), upperpose.BodyModel(shoulder_width=0.5))  # no pose: no body
+    for frame, body in ((3, first), (4, first), (5, second), (6, second), (9, first)):
+        history.see(dataclasses.replace(posed, frame=frame), body)
+    assert history.records() == [
+        {"frame": 3, "body": dict(first.as_dict())},
+        {"frame": 5, "body": dict(second.as_dict())},
+        {"frame": 9, "body": dict(first.as_dict())},
+    ]
+    assert history.last() is first
 
 
 def test_recorder_memory_does_not_hold_the_frames() -> None:

@@ -16,6 +16,7 @@ import warnings
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 from upperpose._upperpose import __version__
 from upperpose.features import CleanPlateWarning
@@ -29,6 +30,7 @@ from upperpose.io.looks import VideoLooks
 from upperpose.io.output import PoseRecorder
 from upperpose.io.overlay import OverlayWriter, draw_overlay
 from upperpose.io.video import Frame
+from upperpose.model import BodyModel
 from upperpose.result import LOST, NO_PERSON, TRACKED, TrackResult
 
 log = logging.getLogger(__name__)
@@ -82,14 +84,40 @@ def smoothing_record(smooth: bool) -> tuple[int, dict[str, object] | None]:
     return DEFAULT_LAG, {"method": method, "lag_frames": DEFAULT_LAG}
 
 
-def provenance(run_: VideoTracking) -> dict[str, object]:
-    """Pose-file fields that say how the poses were made: version, camera and body."""
+def provenance(run_: VideoTracking, body: BodyModel | None = None) -> dict[str, object]:
+    """Pose-file fields that say how the poses were made: version, camera and body (the tracker's when None)."""
     camera = run_.camera
     return {
         "upperpose_version": __version__,
         "camera": {"model": camera.kind, "focal": camera.focal, "cx": camera.cx, "cy": camera.cy},
-        "body": dict(run_.tracker.body.as_dict()),
+        "body": dict((body or run_.tracker.body).as_dict()),
     }
+
+
+class BodyHistory:
+    """The body dimensions the posed frames were fitted with: the pose file's "bodies".
+
+    One entry per change, from the first posed frame on: start-up measures the body, and a new
+    start-up (after the person left, or was lost and found again from scratch) measures it again.
+    """
+
+    def __init__(self) -> None:
+        self._entries: list[tuple[int, BodyModel]] = []
+
+    def see(self, result: TrackResult, body: BodyModel) -> None:
+        """Notes the body a frame's pose was fitted with."""
+        if result.pose is None:
+            return
+        if not self._entries or self._entries[-1][1].as_dict() != body.as_dict():
+            self._entries.append((result.frame, body))
+
+    def last(self) -> BodyModel | None:
+        """The body of the last posed frame (None without one)."""
+        return self._entries[-1][1] if self._entries else None
+
+    def records(self) -> list[dict[str, Any]]:
+        """`{"frame": first frame, "body": dimensions}` per body, in order."""
+        return [{"frame": frame, "body": dict(body.as_dict())} for frame, body in self._entries]
 
 
 def track_to_files(
@@ -163,6 +191,7 @@ def track_to_files(
     )
     lost: set[str] = set()
     looks = VideoLooks()
+    bodies = BodyHistory()
 
     def take(result: TrackResult, frame: Frame | None) -> None:
         posed_before = recorder.first_posed is not None
@@ -188,6 +217,7 @@ def track_to_files(
     try:
         for frame, result in run_.frames():
             looks.see(result.frame, frame)
+            bodies.see(result, run_.tracker.body)
             for done, shown in smoother.push(result, run_.tracker.body, frame if overlay is not None else None):
                 take(done, shown)
         finished = True
@@ -203,7 +233,7 @@ def track_to_files(
                 for done, shown in smoother.flush():
                     take(done, shown)
                 run_time = time.perf_counter() - started
-                written = _write(recorder, overlay, paths, run_, run_time)
+                written = _write(recorder, overlay, paths, run_, run_time, bodies)
                 log.info(
                     "%s: %d frames in %.1f s; wrote %s", name, recorder.frames, run_time, ", ".join(map(str, written))
                 )
@@ -226,20 +256,32 @@ def track_to_files(
 
 
 def _write(
-    recorder: PoseRecorder, overlay: OverlayWriter | None, paths: OutputPaths, run_: VideoTracking, run_time: float
+    recorder: PoseRecorder,
+    overlay: OverlayWriter | None,
+    paths: OutputPaths,
+    run_: VideoTracking,
+    run_time: float,
+    bodies: BodyHistory,
 ) -> list[Path]:
-    """Writes the outputs, the pose file last; returns them, the pose file first."""
+    """Writes the outputs, the pose file last; returns them, the pose file first.
+
+    The pose file's `body` and the BVH's skeleton are the last posed frame's body (the tracker's
+    returns to the averages when the person leaves); frames fitted with an earlier one
+    (`bodies`) replay in the BVH with its dimensions.
+    """
+    body = bodies.last() or run_.tracker.body
     others: list[Path] = []
     if paths.csv is not None:
         others.append(recorder.write_csv(paths.csv))
     if paths.bvh is not None and recorder.first_posed is not None:
-        others.append(write_bvh(paths.bvh, recorder.records(), run_.tracker.body, run_.fps))
+        others.append(write_bvh(paths.bvh, recorder.records(), body, run_.fps))
     if overlay is not None:
         kept = overlay.close()
         if kept:
             others.append(kept)
-    recorder.extra.update(provenance(run_))
+    recorder.extra.update(provenance(run_, body))
+    recorder.extra["bodies"] = bodies.records()
     return [recorder.write_json(paths.poses, run_time), *others]
 
 
-__all__ = ["OutputPaths", "Tracked", "provenance", "smoothing_record", "track_to_files"]
+__all__ = ["BodyHistory", "OutputPaths", "Tracked", "provenance", "smoothing_record", "track_to_files"]
