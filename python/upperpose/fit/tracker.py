@@ -178,6 +178,11 @@ class Tracker:
         return self._body
 
     @property
+    def features(self) -> FrameFeatures | None:
+        """The last frame's image features, skin points included (None before the first frame)."""
+        return self._features
+
+    @property
     def learns_background(self) -> bool:
         """Whether the background is learnt from the frames alone (no clean plate, no estimate).
 
