@@ -3,8 +3,10 @@
 A hand farther than `threshold_px` from the truth either had no usable evidence (no skin of
 its own: none at all, a blob shared with the head or the other hand, a hand cut by the border),
 misleading evidence (its skin point is itself far from the true hand), or good evidence that the
-fit did not follow (its skin point is near the true hand, the fitted hand far from the point).
-The cures differ: the features, the matching, or the search and the body. For the last class it
+fit did not follow (its skin point is near the true hand, the model's hand, which the point
+measures, far from the point); the rest followed good evidence and still report the palm's
+centre far off (where the model puts the palm behind the hand's middle). The cures differ: the
+features, the matching, or the search and the body. For the last class it
 also counts the frames where the arm was fitted nearly straight at the point and still could not
 reach it: no arm shorter than the distance from its shoulder to the camera ray through the
 point puts the hand there, so the body's arm is too short from that shoulder.
