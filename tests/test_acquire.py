@@ -248,16 +248,28 @@ def test_startup_frames_of_a_pose_file() -> None:
 
 
 @pytest.mark.parametrize("ends_away", [False, True])
-def test_the_pose_file_records_each_start_up_s_body(tmp_path: Path, ends_away: bool) -> None:
+def test_the_pose_file_records_each_start_up_s_body(
+    tmp_path: Path, ends_away: bool, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import upperpose.fit.outputs as outputs
+
     plan, frames = _rendered("return")
     back = int(np.flatnonzero(plan.present[15:])[0]) + 15
     kept = frames[: back - 5] if ends_away else frames  # the person still away when the video ends
     video = write_video(tmp_path / "clip.mp4", kept, FPS)
     cv2.imwrite(str(tmp_path / "plate.png"), clean_plate(plan))
+    drawn: dict[int, dict[str, Any]] = {}
+
+    def draw(frame: np.ndarray, result: upperpose.TrackResult, camera: Any, body: upperpose.BodyModel) -> np.ndarray:
+        if result.pose is not None:
+            drawn[result.frame] = json.loads(json.dumps(body.as_dict()))
+        return frame
+
+    monkeypatch.setattr(outputs, "draw_overlay", draw)
     out = tmp_path / "poses.json"
     track_to_files(
         video,
-        OutputPaths(out, bvh=tmp_path / "poses.bvh"),
+        OutputPaths(out, bvh=tmp_path / "poses.bvh", overlay=tmp_path / "overlay.mp4"),
         config=TrackerConfig(),
         background=tmp_path / "plate.png",
         focal=plan.camera.focal,
@@ -275,3 +287,8 @@ def test_the_pose_file_records_each_start_up_s_body(tmp_path: Path, ends_away: b
     # The last posed frame's body, not the averages the tracker returns to when the person leaves.
     averages = json.loads(json.dumps(upperpose.BodyModel().as_dict()))  # as the file holds them
     assert doc["body"] == doc["bodies"][-1]["body"] != averages
+    # The overlay draws each frame with the body it was fitted with (it leaves the smoother six
+    # frames late, when the tracker may already hold another).
+    assert sorted(drawn) == posed
+    for frame, body in drawn.items():
+        assert body == next(b["body"] for b in reversed(doc["bodies"]) if b["frame"] <= frame)

@@ -180,7 +180,9 @@ def track_to_files(
         settings=config_to_dict(config),
         smoothing=smoothing,
     )
-    smoother: PoseSmoother[Frame | None] = PoseSmoother(run_.camera, lag)
+    # Each frame leaves the smoother `lag` frames late, with the body it was fitted with: by then
+    # the tracker's may be another person's, or the averages after the person left.
+    smoother: PoseSmoother[tuple[Frame | None, BodyModel]] = PoseSmoother(run_.camera, lag)
     log.debug(
         "%s: %dx%d at %.3g fps, %s frames, clean plate: %s",
         name,
@@ -193,7 +195,8 @@ def track_to_files(
     looks = VideoLooks()
     bodies = BodyHistory()
 
-    def take(result: TrackResult, frame: Frame | None) -> None:
+    def take(result: TrackResult, shown: tuple[Frame | None, BodyModel]) -> None:
+        frame, body = shown
         posed_before = recorder.first_posed is not None
         recorder.add(result)
         # The events a user asks about after a run (-v): when start-up ended, when an arm went and came back.
@@ -207,7 +210,7 @@ def track_to_files(
         lost.clear()
         lost.update(now)
         if overlay is not None and frame is not None:
-            overlay.write(draw_overlay(frame, result, run_.camera, run_.tracker.body))
+            overlay.write(draw_overlay(frame, result, run_.camera, body))
         if on_frame is not None:
             on_frame(recorder.frames, run_.reader.frame_count, result.status)
 
@@ -217,8 +220,9 @@ def track_to_files(
     try:
         for frame, result in run_.frames():
             looks.see(result.frame, frame)
-            bodies.see(result, run_.tracker.body)
-            for done, shown in smoother.push(result, run_.tracker.body, frame if overlay is not None else None):
+            body = run_.tracker.body
+            bodies.see(result, body)
+            for done, shown in smoother.push(result, body, (frame if overlay is not None else None, body)):
                 take(done, shown)
         finished = True
     except KeyboardInterrupt:
