@@ -38,7 +38,7 @@ def run(args: argparse.Namespace) -> int:
     from upperpose.io.video import Frame
     from upperpose.lab.evaluate import evaluate, format_table
     from upperpose.lab.synth import ClipConfig, load_meta, write_clip
-    from upperpose.model import Camera
+    from upperpose.model import BodyModel, Camera
     from upperpose.result import TrackResult
 
     if not 30 <= args.frames <= 3000:
@@ -66,18 +66,20 @@ def run(args: argparse.Namespace) -> int:
     tiles = []
     lag, smoothing = smoothing_of(args)
     recorder.extra["smoothing"] = smoothing
-    smoother: PoseSmoother[Frame] = PoseSmoother(camera, lag)
+    smoother: PoseSmoother[tuple[Frame, BodyModel]] = PoseSmoother(camera, lag)
 
-    def take(result: TrackResult, frame: Frame) -> None:
+    def take(result: TrackResult, shown: tuple[Frame, BodyModel]) -> None:
+        frame, body = shown  # the body the frame was fitted with: it leaves the smoother late
         recorder.add(result)
-        drawn = draw_overlay(frame, result, camera, run_.tracker.body)
+        drawn = draw_overlay(frame, result, camera, body)
         overlay.write(drawn)
         if result.frame in picks:
             tiles.append(drawn)
 
     try:
         for frame, result in run_.frames():
-            for done, shown in smoother.push(result, run_.tracker.body, frame):
+            body = run_.tracker.body
+            for done, shown in smoother.push(result, body, (frame, body)):
                 take(done, shown)
         for done, shown in smoother.flush():
             take(done, shown)

@@ -106,7 +106,7 @@ class BodyHistory:
 
     def see(self, result: TrackResult, body: BodyModel) -> None:
         """Notes the body a frame's pose was fitted with."""
-        if result.pose is None:
+        if result.pose is None or (self._entries and self._entries[-1][1] is body):
             return
         if not self._entries or self._entries[-1][1].as_dict() != body.as_dict():
             self._entries.append((result.frame, body))

@@ -21,7 +21,6 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
-import json
 import sys
 from collections import Counter
 from pathlib import Path
@@ -33,7 +32,7 @@ from upperpose.features import FrameFeatures
 from upperpose.fit.fitter import Fitter
 from upperpose.fit.pipeline import VideoTracking
 from upperpose.fit.tracker import TrackerConfig
-from upperpose.io.posefile import load_poses
+from upperpose.lab.truth_cost import clip_inputs
 from upperpose.model import BodyModel, Camera, model_points, project
 from upperpose.result import TrackResult
 
@@ -121,14 +120,7 @@ def survey_clip(
     Pixels are the tracker's working size (the video's unless it is larger than that).
     `fitter`: the search (`upperpose.fit_frame` when None).
     """
-    truth = {
-        f["frame"]: np.asarray(f["joints_2d"], dtype=np.float64)
-        for f in load_poses(clip / "gt.json")["frames"]
-        if f.get("joints_2d")
-    }
-    meta_path = clip / "meta.json"
-    focal = json.loads(meta_path.read_text())["camera"]["focal"] if meta_path.is_file() else None
-    background = clip / "background.png" if plate and (clip / "background.png").is_file() else None
+    truth, focal, background = clip_inputs(clip, plate)
     counts: Counter[str] = Counter()
     compared = 0
     run = VideoTracking(clip / "video.mp4", background, focal=focal, config=TrackerConfig(seed=seed), fitter=fitter)

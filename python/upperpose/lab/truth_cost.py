@@ -159,13 +159,19 @@ class TruthCostProbe:
         return fit
 
 
-def probe_clip(clip: Path, seed: int = 0, plate: bool = True, probe: TruthCostProbe | None = None) -> list[Probe]:
-    """Tracks a clip with a `TruthCostProbe` (one on the clip's gt.json when None); its probes in frame order."""
+def clip_inputs(clip: Path, plate: bool = True) -> tuple[dict[int, FloatArray], float | None, Path | None]:
+    """A clip folder's true 2D joints per frame, focal length (meta.json, if any) and clean plate (if kept)."""
     frames = load_poses(clip / "gt.json")["frames"]
     truth = {f["frame"]: np.asarray(f["joints_2d"], dtype=np.float64) for f in frames if f.get("joints_2d")}
     meta_path = clip / "meta.json"
     focal = json.loads(meta_path.read_text())["camera"]["focal"] if meta_path.is_file() else None
     background = clip / "background.png" if plate and (clip / "background.png").is_file() else None
+    return truth, focal, background
+
+
+def probe_clip(clip: Path, seed: int = 0, plate: bool = True, probe: TruthCostProbe | None = None) -> list[Probe]:
+    """Tracks a clip with a `TruthCostProbe` (one on the clip's gt.json when None); its probes in frame order."""
+    truth, focal, background = clip_inputs(clip, plate)
     probe = probe or TruthCostProbe(truth)
     for _ in track_video(clip / "video.mp4", background, focal=focal, config=TrackerConfig(seed=seed), fitter=probe):
         pass
