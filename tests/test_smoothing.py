@@ -1,4 +1,7 @@
-"""The fixed-lag angle smoother: exact on quadratics to the ends of a run, no lag, runs kept apart, every frame once."""
+"""The fixed-lag angle smoother: exact on quadratics to the ends of a run, no lag, every frame once.
+
+Runs of poses, and a part's angles on either side of a re-seed, are never mixed.
+"""
 
 from __future__ import annotations
 
@@ -7,7 +10,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from upperpose.fit.smoothing import PoseSmoother, window_weights
+from upperpose.fit.smoothing import PART_ANGLES, PoseSmoother, steady_span, window_weights
 from upperpose.model import BodyModel, Camera, Pose, forward_kinematics, project, reaching_camera
 from upperpose.result import NO_PERSON, TRACKED, TrackResult
 
@@ -133,10 +136,62 @@ def test_a_smoothed_arm_never_reaches_through_the_camera() -> None:
     middle = np.zeros(13)
     middle[4] = 1.55
     assert reaching_camera(middle, root, BODY, CAMERA) == ("right_arm",)
-    out = run(PoseSmoother(CAMERA, lag=6), [result(i, p, root) for i, p in enumerate(swings)])
+    # Steps of 1.5 rad are a re-seeded arm to the default smoother, which then keeps each frame's
+    # own arm: without that split the fallback must still hold.
+    out = run(PoseSmoother(CAMERA, lag=6, max_step=np.inf), [result(i, p, root) for i, p in enumerate(swings)])
     kept = 0
     for r, _ in out:
         assert reaching_camera(r.pose, r.root, BODY, CAMERA) == ()
         assert np.all(np.isfinite(r.joints_2d))
         kept += int(np.array_equal(r.pose, swings[r.frame]))
     assert kept > 0
+
+
+@settings(max_examples=200, deadline=None)
+@given(
+    steps=st.lists(st.floats(-2.0, 2.0), min_size=0, max_size=14),
+    centre=st.integers(0, 14),
+    max_step=st.floats(0.1, 1.5),
+)
+def test_steady_span_is_the_widest_window_without_a_jump(steps: list[float], centre: int, max_step: float) -> None:
+    values = np.cumsum([0.0, *steps])[:, None] * np.array([1.0, -0.5])  # the second column never jumps alone
+    centre = min(centre, len(steps))
+    before, after = steady_span(values, centre, len(steps) - centre, max_step)
+
+    def jump(k: int) -> bool:  # from row k to k + 1
+        return bool(np.abs(values[k + 1] - values[k]).max() > max_step)
+
+    assert 0 <= before <= centre and 0 <= after <= len(steps) - centre
+    assert not any(jump(k) for k in range(centre - before, centre + after))
+    assert before == centre or jump(centre - before - 1)
+    assert after == len(steps) - centre or jump(centre + after)
+
+
+def test_a_reseeded_arm_is_smoothed_on_each_side_of_its_jump_alone() -> None:
+    # The right arm is found again in another configuration at frame 20 (its shoulder angles
+    # jump by 1.5 rad). Averaged across the jump, its angles would pass through poses it never
+    # took; each side's own quadratic motion must come out unchanged instead, while the noisy
+    # torso, root and left arm are smoothed across the jump exactly as without it.
+    rng = np.random.default_rng(5)
+    t = np.arange(40, dtype=float)
+    right = PART_ANGLES[1]
+    steady, jumping = [], []
+    for ti in t:
+        pose = Pose.a_pose().angles + rng.normal(0, 0.02, 13)
+        pose[right] = Pose.a_pose().angles[right] + 0.01 * ti - 0.0004 * ti * ti
+        steady.append(pose.copy())
+        if ti >= 20:
+            pose[4] += 1.5  # x_up: the arm swung forwards
+            pose[5] -= 0.004 * ti  # z_up: another motion after the jump, a line
+        jumping.append(pose)
+    roots = [ROOT + rng.normal(0, 0.005, 3) for _ in t]
+    out = run(PoseSmoother(CAMERA, 6), [result(i, p, r) for i, (p, r) in enumerate(zip(jumping, roots))])
+    without = run(PoseSmoother(CAMERA, 6), [result(i, p, r) for i, (p, r) in enumerate(zip(steady, roots))])
+    for (r, _), (w, _), fitted in zip(out, without, jumping):
+        np.testing.assert_allclose(r.pose[right], fitted[right], atol=1e-12)
+        for part in (PART_ANGLES[0], PART_ANGLES[2]):
+            np.testing.assert_allclose(r.pose[part], w.pose[part], atol=1e-12)
+        np.testing.assert_allclose(r.root, w.root, atol=1e-12)
+    smoothed_left = np.array([r.pose[PART_ANGLES[2]] for r, _ in out])
+    raw_left = np.array([p[PART_ANGLES[2]] for p in jumping])
+    assert np.diff(smoothed_left, 2, axis=0).std() < 0.5 * np.diff(raw_left, 2, axis=0).std()

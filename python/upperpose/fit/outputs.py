@@ -22,7 +22,7 @@ from upperpose._upperpose import __version__
 from upperpose.features import CleanPlateWarning
 from upperpose.fit.pipeline import BackgroundLike, VideoTracking
 from upperpose.fit.settings import config_to_dict
-from upperpose.fit.smoothing import DEFAULT_LAG, PoseSmoother
+from upperpose.fit.smoothing import DEFAULT_LAG, DEFAULT_MAX_STEP, PoseSmoother
 from upperpose.fit.tracker import TrackerConfig
 from upperpose.io.bvh import write_bvh
 from upperpose.io.files import interrupts_held
@@ -80,8 +80,11 @@ def smoothing_record(smooth: bool) -> tuple[int, dict[str, object] | None]:
     """The smoother's lag and the pose file's description of it (None: not smoothed)."""
     if not smooth:
         return 0, None
-    method = "local quadratic, tricube weights, centred (one-sided at the ends of a run), in angle space"
-    return DEFAULT_LAG, {"method": method, "lag_frames": DEFAULT_LAG}
+    method = (
+        "local quadratic, tricube weights, centred (one-sided at the ends of a run), in angle space; "
+        "each part's window ends where its angles jump by more than max_step_rad"
+    )
+    return DEFAULT_LAG, {"method": method, "lag_frames": DEFAULT_LAG, "max_step_rad": DEFAULT_MAX_STEP}
 
 
 def provenance(run_: VideoTracking, body: BodyModel | None = None) -> dict[str, object]:

@@ -11,6 +11,13 @@ the ends of a run the window keeps the frames it has on either side (one-sided a
 last frame) rather than shrinking to the shorter side: the ends are smoothed as well. The price
 of the centred window is that a frame's smoothed pose is known `lag` frames later, so a live
 run's outputs trail the camera by `lag` frames.
+
+Each part (the torso with the root, each arm) is smoothed over its own window, which stops at a
+frame where the part's angles jump by more than a search step (`max_step`): a lost arm found
+again, or a correction that moved it, often lands in another configuration of the angles that
+puts the hand near the same place, and a quadratic through both configurations passes through
+poses the arm never took (the hand swung 110 px away and back over three frames on the
+validation set).
 """
 
 from __future__ import annotations
@@ -29,8 +36,13 @@ from upperpose.result import LOST, TRACKED, TrackResult
 
 FloatArray = npt.NDArray[np.float64]
 T = TypeVar("T")
-DEFAULT_LAG = 6
+DEFAULT_LAG = 7
 MAX_LAG = 30
+# The angles of each part, in order: the torso (the root moves with it), the right arm, the left arm.
+PART_ANGLES = (slice(0, 3), slice(3, 8), slice(8, 13))
+# Radians: twice the largest step a search takes between two frames (a trajectory window reaches
+# 0.15 rad at 30 frames/s, twice that after a poor fit and twice again at 15 frames/s).
+DEFAULT_MAX_STEP = 1.2
 
 
 def window_weights(before: int, after: int, lag: int) -> FloatArray:
@@ -53,6 +65,17 @@ def window_weights(before: int, after: int, lag: int) -> FloatArray:
     return weights
 
 
+def steady_span(values: FloatArray, before: int, after: int, max_step: float) -> tuple[int, int]:
+    """How far the window around row `before` of `values` reaches on each side without a jump.
+
+    A jump is a change between consecutive rows of more than `max_step` in any column.
+    """
+    steps = np.abs(np.diff(values, axis=0)).max(axis=1) > max_step  # steps[k]: row k to k + 1
+    b = next((before - k - 1 for k in range(before - 1, -1, -1) if steps[k]), before)
+    a = next((k - before for k in range(before, len(steps)) if steps[k]), after)
+    return b, a
+
+
 def has_pose(result: TrackResult) -> bool:
     """Whether the frame carries a pose to smooth."""
     return result.status in (TRACKED, LOST) and result.pose is not None and result.root is not None
@@ -64,15 +87,19 @@ class PoseSmoother(Generic[T]):
     Args:
         camera: projects the smoothed joints.
         lag: frames on each side of the window (0 passes the results through).
+        max_step: radians; a larger change of any of a part's angles between two frames ends
+            that part's window.
 
     Each result goes in with the body it was fitted with and any payload (a video frame for an
     overlay, say) that should come out with it.
     """
 
-    def __init__(self, camera: Camera, lag: int = DEFAULT_LAG) -> None:
+    def __init__(self, camera: Camera, lag: int = DEFAULT_LAG, max_step: float = DEFAULT_MAX_STEP) -> None:
         if isinstance(lag, bool) or not isinstance(lag, int) or not 0 <= lag <= MAX_LAG:
             raise InputError(f"smoothing lag must be an integer within 0..{MAX_LAG} frames, got {lag!r}")
-        self.camera, self.lag = camera, lag
+        if not max_step > 0:
+            raise InputError(f"the largest smoothed step must be a positive number of radians, got {max_step!r}")
+        self.camera, self.lag, self.max_step = camera, lag, max_step
         self._past: deque[tuple[TrackResult, BodyModel]] = deque(maxlen=max(lag, 1))
         self._pending: deque[tuple[TrackResult, BodyModel, T]] = deque()
 
@@ -105,9 +132,12 @@ class PoseSmoother(Generic[T]):
         result, body = window[before]
         if before + after < 2:
             return result
-        w = window_weights(before, after, self.lag)
-        pose = w @ np.array([np.asarray(r.pose, dtype=float) for r, _ in window])
-        root = w @ np.array([np.asarray(r.root, dtype=float) for r, _ in window])
+        poses = np.array([np.asarray(r.pose, dtype=float) for r, _ in window])
+        roots = np.array([np.asarray(r.root, dtype=float) for r, _ in window])
+        windows = [self._part_window(poses[:, part], before, after) for part in PART_ANGLES]
+        pose = np.concatenate([w @ poses[span, part] for (span, w), part in zip(windows, PART_ANGLES)])
+        torso_span, torso_weights = windows[0]
+        root = torso_weights @ roots[torso_span]  # the root moves with the torso
         if reaching_camera(pose, root, body, self.camera):
             return result  # the quadratic overshot into the camera: keep the fitted pose
         joints_3d = forward_kinematics(pose, root, body)
@@ -115,5 +145,24 @@ class PoseSmoother(Generic[T]):
             result, pose=pose, root=root, joints_3d=joints_3d, joints_2d=project(self.camera, joints_3d)
         )
 
+    def _part_window(self, angles: FloatArray, before: int, after: int) -> tuple[slice, FloatArray]:
+        """The rows of the window one part is smoothed over, and their weights.
 
-__all__ = ["DEFAULT_LAG", "MAX_LAG", "PoseSmoother", "has_pose", "window_weights"]
+        A part re-seeded between two frames (a lost arm found again in another configuration)
+        changes its angles by more than a search step can: the angles in between describe no
+        motion, so the part's window stops there.
+        """
+        b, a = steady_span(angles, before, after, self.max_step)
+        return slice(before - b, before + a + 1), window_weights(b, a, self.lag)
+
+
+__all__ = [
+    "DEFAULT_LAG",
+    "DEFAULT_MAX_STEP",
+    "MAX_LAG",
+    "PART_ANGLES",
+    "PoseSmoother",
+    "has_pose",
+    "steady_span",
+    "window_weights",
+]
