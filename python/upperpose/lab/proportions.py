@@ -19,15 +19,13 @@ and the mean absolute deviation from 1 of each ratio.
 
 from __future__ import annotations
 
-import argparse
 import sys
-from pathlib import Path
 from typing import Any
 
 import numpy as np
 import numpy.typing as npt
 
-from upperpose.io.posefile import load_poses
+from upperpose.lab.pose_pairs import pairs_parser, pose_pairs
 
 BONES = ("shoulder_width", "upper_arm", "forearm", "neck")
 # JOINT_NAMES order.
@@ -76,10 +74,7 @@ def compare_bones(prediction: dict[str, Any], truth: dict[str, Any]) -> dict[str
 
 def main(argv: list[str] | None = None) -> int:
     """Prints the ratios of every clip of a folder of pose files; 1 when none could be compared."""
-    parser = argparse.ArgumentParser(prog="python -m upperpose.lab.proportions", description=__doc__.split("\n")[0])
-    parser.add_argument("predictions", type=Path, help="folder of pose files NAME.json")
-    parser.add_argument("truth", type=Path, help="folder of clips NAME/gt.json")
-    args = parser.parse_args(argv)
+    args = pairs_parser("python -m upperpose.lab.proportions", __doc__.split("\n")[0]).parse_args(argv)
     rows = []
     print(
         f"{'clip':28s} {'depth':>6s}  metric: "
@@ -87,18 +82,15 @@ def main(argv: list[str] | None = None) -> int:
         + "  image: "
         + " ".join(f"{b[:8]:>8s}" for b in BONES)
     )
-    for pred in sorted(args.predictions.glob("*.json")):
-        gt = args.truth / pred.stem / "gt.json"
-        if not gt.is_file():
-            continue
-        result = compare_bones(load_poses(pred), load_poses(gt))
+    for name, prediction, truth in pose_pairs(args.predictions, args.truth):
+        result = compare_bones(prediction, truth)
         if result is None:
-            print(f"{pred.stem:28s} no frame with 3D joints in both")
+            print(f"{name:28s} no frame with 3D joints in both")
             continue
         rows.append(result)
         metric = " ".join(f"{result['metric'][b]:8.2f}" for b in BONES)
         image = " ".join(f"{result['image'][b]:8.2f}" for b in BONES)
-        print(f"{pred.stem:28s} {result['depth']['ratio']:6.2f}          {metric}         {image}")
+        print(f"{name:28s} {result['depth']['ratio']:6.2f}          {metric}         {image}")
     if not rows:
         print("no clip with both a pose file and a truth", file=sys.stderr)
         return 1
