@@ -17,7 +17,13 @@ from upperpose.features import (
     compute_features,
     estimate_background,
 )
-from upperpose.features.background import iterative_masked_median, masked_median, median_pair, showing_the_room
+from upperpose.features.background import (
+    iterative_masked_median,
+    masked_median,
+    median_pair,
+    sample_video,
+    showing_the_room,
+)
 from upperpose.features.config import PersonTemplate
 from upperpose.features.parallel import THREADS_ENV, worker_count
 from upperpose.features.person_cut import find_face, grabcut_seed, person_in_median, with_bare_arms
@@ -163,6 +169,28 @@ def test_background_from_video(tmp_path) -> None:
     assert np.median(error(background.plate, plate)) < 8  # MJPG loses a little
     given = background_from_video(path, plate=plate)
     assert not given.estimated and np.array_equal(given.plate, plate)
+
+
+@pytest.mark.parametrize("count", [7, 50, 123])
+def test_sample_video_keeps_the_lead_in_and_every_step_th_frame(tmp_path, count) -> None:
+    # The frames between samples are only decoded; the kept ones must be those a full read gives.
+    frames = moving_square_frames(textured_background(H, W, seed=8), count, size=20)
+    path = tmp_path / "clip.avi"
+    writer = cv2.VideoWriter(str(path), cv2.VideoWriter_fourcc(*"MJPG"), 30, (W, H))
+    for frame in frames:
+        writer.write(frame)
+    writer.release()
+    capture = cv2.VideoCapture(str(path))
+    decoded = []
+    while (read := capture.read())[0]:
+        decoded.append(read[1])
+    config = FeatureConfig(bg_max_samples=10, bg_lead_seconds=0.1)
+    lead, samples, fps = sample_video(path, config)
+    step = -(-count // 10)
+    assert fps == 30 and len(decoded) == count
+    assert len(lead) == 3 and all(np.array_equal(a, b) for a, b in zip(lead, decoded[:3]))
+    assert len(samples) == len(decoded[::step])
+    assert all(np.array_equal(a, b) for a, b in zip(samples, decoded[::step]))
 
 
 @pytest.fixture(scope="module")

@@ -28,6 +28,7 @@ from upperpose.features.change import colour_change
 from upperpose.features.checks import Frame, Mask, check_frame
 from upperpose.features.config import FeatureConfig
 from upperpose.features.faces import FaceDetector
+from upperpose.features.order_stats import kth_smallest
 from upperpose.features.parallel import map_in_threads, row_bands
 from upperpose.features.person_cut import find_face, person_in_median
 from upperpose.features.skin import skin_mask
@@ -129,7 +130,7 @@ class Background:
 
 
 def median_pair(stack: npt.NDArray[np.uint8]) -> tuple[Frame, Frame]:
-    """Per-pixel medians of `(N, H, W, 3)` uint8 samples from one partial sort.
+    """Per-pixel medians of `(N, H, W, 3)` uint8 samples.
 
     Returns:
         (median, lower): `np.median`'s (the mean of the two middle values, truncated, for even
@@ -137,11 +138,12 @@ def median_pair(stack: npt.NDArray[np.uint8]) -> tuple[Frame, Frame]:
     """
     n = len(stack)
     lower = np.empty(stack.shape[1:], np.uint8)
-    upper = np.empty_like(lower)
+    upper = lower if n % 2 else np.empty_like(lower)
 
     def band(rows: slice) -> None:
-        middles = np.partition(stack[:, rows], [(n - 1) // 2, n // 2], axis=0)
-        lower[rows], upper[rows] = middles[(n - 1) // 2], middles[n // 2]
+        lower[rows] = kth_smallest(stack[:, rows], (n - 1) // 2)
+        if upper is not lower:
+            upper[rows] = kth_smallest(stack[:, rows], n // 2)
 
     map_in_threads(band, row_bands(stack.shape[1]))
     median = ((lower.astype(np.uint16) + upper) // 2).astype(np.uint8)
@@ -337,10 +339,16 @@ def sample_video(
         samples: list[Frame] = []
         index = 0
         while True:
+            kept = index < lead_count or index % step == 0
+            if not kept:  # decoded to stay in step, never converted to BGR
+                if not capture.grab():
+                    break
+                index += 1
+                continue
             ok, frame = capture.read()
             if not ok:
                 break
-            if size is not None and (index < lead_count or index % step == 0):
+            if size is not None:
                 frame = cv2.resize(frame, size, interpolation=cv2.INTER_AREA)
             if index < lead_count:
                 lead.append(cast(Frame, frame))
