@@ -17,7 +17,7 @@ threshold of the true plate):
 
 Quick (about a second a clip, no tracking), so a change to the estimate can be screened before
 the tracker is run on it; the plate is only a means, and a plate with fewer wrong pixels has
-tracked worse (docs/RESULTS.md, Speed without a plate).
+tracked worse (docs/RESULTS.md, The estimated plates' wrong pixels).
 Not a test: the numbers depend on the clips; times on the machine.
 """
 
