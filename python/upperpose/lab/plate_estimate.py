@@ -15,7 +15,7 @@ threshold of the true plate):
   time, and only masking them out can find it;
 - `never`: no sample shows the room: only the inpainting can guess it.
 
-Quick (about a second a clip, no tracking), so a change to the estimate can be screened before
+Quick (under 2 s a clip, no tracking), so a change to the estimate can be screened before
 the tracker is run on it; the plate is only a means, and a plate with fewer wrong pixels has
 tracked worse (docs/RESULTS.md, The estimated plates' wrong pixels).
 Not a test: the numbers depend on the clips; times on the machine.
