@@ -286,6 +286,11 @@ def showing_the_room(frames: list[Frame], config: FeatureConfig) -> list[Frame]:
     return kept if len(kept) >= 3 else frames
 
 
+def median_samples(lead: Sequence[Frame], samples: Sequence[Frame], config: FeatureConfig) -> list[Frame]:
+    """The frames the masked median is taken over: the samples and the first frame that show the room."""
+    return showing_the_room(list(samples) + list(lead[:1]), config)
+
+
 def estimate_plate(lead: Sequence[Frame], samples: Sequence[Frame], config: FeatureConfig) -> tuple[Frame, str]:
     """Estimates the empty scene from the video's lead-in frames and frames sampled over it all.
 
@@ -310,7 +315,7 @@ def estimate_plate(lead: Sequence[Frame], samples: Sequence[Frame], config: Feat
             the_room = bool(changed) and float(np.median(changed)) < NOT_THE_ROOM
             if someone_enters and the_room and not shows_a_face([lead[0], lead[n // 2], lead[n - 1]], config):
                 return plate, "lead-in median"
-    plate, cut = iterative_masked_median(showing_the_room(list(samples) + list(lead[:1]), config), config)
+    plate, cut = iterative_masked_median(median_samples(lead, samples, config), config)
     return plate, "masked median, person cut out" if cut else "masked median"
 
 

@@ -35,7 +35,8 @@ import numpy as np
 import numpy.typing as npt
 
 from upperpose.features import CleanPlateWarning, FeatureConfig
-from upperpose.features.background import estimate_plate, sample_video, showing_the_room
+from upperpose.features.background import estimate_plate, median_samples, sample_video
+from upperpose.features.change import colour_change
 from upperpose.features.checks import Frame
 
 CLASSES = ("most", "some", "never")
@@ -60,13 +61,8 @@ def classify_errors(plate: Frame, truth: Frame, samples: npt.NDArray[np.uint8], 
         samples: `(N, H, W, 3)` uint8 frames the estimate was made from.
         threshold: a pixel differs when some channel differs by more than this.
     """
-
-    def differs(a: npt.NDArray[np.uint8], b: npt.NDArray[np.uint8]) -> npt.NDArray[np.bool_]:
-        far: npt.NDArray[np.bool_] = np.abs(a.astype(np.int16) - b.astype(np.int16)).max(axis=-1) > threshold
-        return far
-
-    wrong = differs(plate, truth)
-    room_share = (~differs(samples, truth[None])).mean(axis=0)
+    wrong = colour_change(plate, truth, threshold) > 0
+    room_share = np.mean([colour_change(sample, truth, threshold) == 0 for sample in samples], axis=0)
     area = wrong.size
     return PlateErrors(
         wrong=float(wrong.sum()) / area,
@@ -87,8 +83,8 @@ def estimate_clip(folder: Path, config: FeatureConfig, threshold: int) -> tuple[
         warnings.simplefilter("ignore", CleanPlateWarning)
         plate, method = estimate_plate(lead, samples, config)
     seconds = time.perf_counter() - start
-    # The same frames the masked median used (the lead-in median's method used its own).
-    used = np.stack(showing_the_room(list(samples) + list(lead[:1]), config))
+    # The frames the masked median used (a lead-in median used its own).
+    used = np.stack(median_samples(lead, samples, config))
     return method, seconds, classify_errors(plate, truth, used, threshold)
 
 
