@@ -344,21 +344,19 @@ def sample_video(
         samples: list[Frame] = []
         index = 0
         while True:
-            kept = index < lead_count or index % step == 0
-            if not kept:  # decoded to stay in step, never converted to BGR
-                if not capture.grab():
+            if not (index < lead_count or index % step == 0):
+                if not capture.grab():  # decoded to stay in step, never converted to BGR
                     break
-                index += 1
-                continue
-            ok, frame = capture.read()
-            if not ok:
-                break
-            if size is not None:
-                frame = cv2.resize(frame, size, interpolation=cv2.INTER_AREA)
-            if index < lead_count:
-                lead.append(cast(Frame, frame))
-            if index % step == 0:
-                samples.append(cast(Frame, frame))
+            else:
+                ok, frame = capture.read()
+                if not ok:
+                    break
+                if size is not None:
+                    frame = cv2.resize(frame, size, interpolation=cv2.INTER_AREA)
+                if index < lead_count:
+                    lead.append(cast(Frame, frame))
+                if index % step == 0:
+                    samples.append(cast(Frame, frame))
             index += 1
     finally:
         capture.release()
