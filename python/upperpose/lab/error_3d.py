@@ -36,17 +36,22 @@ FloatArray = npt.NDArray[np.float64]
 VARIANTS = ("error", "true z", "true xy", "unbiased z", "scaled")
 
 
-def paired_joints(prediction: dict[str, Any], truth: dict[str, Any]) -> tuple[FloatArray, FloatArray]:
-    """`(F, 7, 3)` predicted and true 3D joints of the frames where both have them."""
-    predicted = {f["frame"]: f.get("joints_3d") for f in prediction["frames"]}
+def paired_joints(
+    prediction: dict[str, Any], truth: dict[str, Any], key: str = "joints_3d"
+) -> tuple[FloatArray, FloatArray]:
+    """`(F, 7, 3)` predicted and true 3D joints of the frames where both have them.
+
+    `key="joints_2d"`: the 2D joints instead, `(F, 7, 2)` pixels.
+    """
+    predicted = {f["frame"]: f.get(key) for f in prediction["frames"]}
     mine, true = [], []
     for frame in truth["frames"]:
-        a, b = predicted.get(frame["frame"]), frame.get("joints_3d")
+        a, b = predicted.get(frame["frame"]), frame.get(key)
         if a is None or b is None:
             continue
         mine.append(a)
         true.append(b)
-    shape = (len(mine), len(JOINT_NAMES), 3)
+    shape = (len(mine), len(JOINT_NAMES), 2 if key == "joints_2d" else 3)
     return np.asarray(mine, dtype=np.float64).reshape(shape), np.asarray(true, dtype=np.float64).reshape(shape)
 
 
