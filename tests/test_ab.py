@@ -91,3 +91,6 @@ def test_the_command_reports_the_change_and_refuses_unpaired_runs(
     empty = tmp_path / "empty"
     empty.mkdir()
     assert main([str(truth), "--before", str(empty), "--after", str(after)]) == 1
+    (empty / "a.json").write_text("{")
+    assert main([str(truth), "--before", str(empty), "--after", str(after)]) == 1
+    assert "a.json: not valid JSON" in capsys.readouterr().err

@@ -28,6 +28,7 @@ from pathlib import Path
 import numpy as np
 import numpy.typing as npt
 
+from upperpose.exceptions import UpperposeError
 from upperpose.lab.evaluate import evaluate
 from upperpose.lab.pose_pairs import pose_pairs
 
@@ -91,9 +92,12 @@ def main(argv: list[str] | None = None) -> int:
     for folder in [*args.before, *args.after]:
         if not folder.is_dir():
             parser.error(f"not a folder: {folder}")
-    means = paired_means(
-        [clip_scores(f, args.truth) for f in args.before], [clip_scores(f, args.truth) for f in args.after]
-    )
+    try:
+        before, after = ([clip_scores(f, args.truth) for f in side] for side in (args.before, args.after))
+    except (UpperposeError, OSError) as problem:  # a pose file that cannot be read or scored
+        print(f"error: {problem}", file=sys.stderr)
+        return 1
+    means = paired_means(before, after)
     if not means:
         print("no clip is scored in every folder", file=sys.stderr)
         return 1
