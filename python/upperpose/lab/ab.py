@@ -8,12 +8,11 @@ eval` scores them; then the mean change over the clips with a 95 % bootstrap int
 resampled, since the seeds of one clip are not independent) and the clips better and worse by
 more than `--margin` pixels in the mean of x and y.
 
-    python ../shared/validation/run.py --seed S --out before_S     # S = 0, 1, 2; then the change
-    python ../shared/validation/run.py --seed S --out after_S
-    python -m upperpose.lab.ab ../shared/validation --before before_0 before_1 before_2 \
+    python -m upperpose.lab.ab TRUTH_DIR --before before_0 before_1 before_2 \
         --after after_0 after_1 after_2
 
-Each folder holds `NAME.json` pose files for clips `TRUTH_DIR/NAME/gt.json` (run.py's `--out`).
+Each folder holds one run's `NAME.json` pose files (seeds 0, 1, 2 before the change, the same
+seeds after it) for clips `TRUTH_DIR/NAME/gt.json`, the layout of `upperpose.lab.pose_pairs`.
 Only clips scored in every folder are compared.
 """
 
@@ -112,10 +111,10 @@ def main(argv: list[str] | None = None) -> int:
     for m, label in enumerate(METRICS):
         scored = np.isfinite(table[:, :, m]).all(axis=1)
         if scored.any():
-            before, after = table[scored, 0, m], table[scored, 1, m]
-            low, high = bootstrap_interval(after - before)
-            change = f"{(after - before).mean():+6.2f}  [{low:+6.2f}, {high:+6.2f}]"
-            print(f"  {label:6s} {before.mean():7.2f} -> {after.mean():7.2f}   {change}")
+            old, new = table[scored, 0, m], table[scored, 1, m]
+            low, high = bootstrap_interval(new - old)
+            change = f"{(new - old).mean():+6.2f}  [{low:+6.2f}, {high:+6.2f}]"
+            print(f"  {label:6s} {old.mean():7.2f} -> {new.mean():7.2f}   {change}")
     both = (table[:, 1, :2] - table[:, 0, :2]).mean(axis=1)
     better, worse = int(np.sum(both < -args.margin)), int(np.sum(both > args.margin))
     print(f"  clips better by more than {args.margin:g} px: {better}, worse: {worse}")
