@@ -25,6 +25,7 @@ from upperpose.features.background import (
     showing_the_room,
 )
 from upperpose.features.config import PersonTemplate
+from upperpose.features.faces import FaceDetector
 from upperpose.features.parallel import THREADS_ENV, worker_count
 from upperpose.features.person_cut import find_face, grabcut_seed, person_in_median, with_bare_arms
 from upperpose.lab.feature_scene import textured_background
@@ -259,6 +260,23 @@ def test_person_cut_finds_a_person_whose_head_moves_while_the_body_stays(still_p
     below[y + 2 * h :, :] = True
     body = np.all(persons, axis=0) & below
     assert (found[body] > 0).mean() > 0.9
+
+
+def test_a_face_under_cool_light_still_anchors_the_person_cut(still_person) -> None:
+    # A bluish webcam: the face fails the skin rule in every frame, but the cascade finds it in
+    # one place in all of them, so the person who stood there is still cut out of the plate.
+    frames, persons, _ = still_person
+    cool = [np.clip(f * np.array([1.3, 1.0, 0.75]), 0, 255).astype(np.uint8) for f in frames]
+    median = np.median(np.stack(cool), axis=0).astype(np.uint8)
+    assert FaceDetector(downscale=1.0)(median)  # the cascade sees the face,
+    assert find_face(median, FeatureConfig()) is None  # the skin rule refuses it
+    assert person_in_median(median, cool, FeatureConfig(bg_face_steady=0.0)) is None
+    found = person_in_median(median, cool, FeatureConfig())
+    assert found is not None
+    assert (found[np.all(persons, axis=0)] > 0).mean() > 0.9
+    assert (found > 0).sum() < 1.6 * np.any(persons, axis=0).sum()
+    with pytest.warns(CleanPlateWarning):
+        assert estimate_background(cool[:1], cool).method == "masked median, person cut out"
 
 
 def test_person_cut_is_the_same_whatever_the_callers_random_state(still_person) -> None:

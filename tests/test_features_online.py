@@ -13,10 +13,13 @@ from tests.tracker_helpers import TruthFitter, camera_of, clip, clip_frames, tru
 import upperpose
 from upperpose.exceptions import InputError
 from upperpose.features import Background, CleanPlateWarning, FeatureConfig
+from upperpose.features.faces import FaceDetector, choose_face
 from upperpose.features.online import OnlineBackground, body_region
+from upperpose.features.skin import skin_mask
 from upperpose.fit import Tracker, TrackerConfig
 from upperpose.fit.pipeline import load_background
 from upperpose.lab.feature_scene import render_scene, textured_background
+from upperpose.lab.synth import ClipConfig, plan_clip, render_frame
 from upperpose.model import Pose
 from upperpose.result import NO_PERSON, TRACKED
 
@@ -236,3 +239,20 @@ def test_the_tracker_refines_an_estimated_plate_and_never_a_given_one(estimated:
         assert error(tracker.background.plate, plate)[ghost].mean() < 10  # the patch showed 100+
     else:
         np.testing.assert_array_equal(tracker.background.plate, start)
+
+
+@pytest.mark.parametrize("gains", [(1.0, 1.0, 1.0), (1.3, 1.0, 0.75)], ids=["neutral", "bluish"])
+def test_the_first_frame_leaves_out_a_person_whose_face_fails_the_skin_rule(gains) -> None:
+    # Under a bluish webcam's light the face is no longer "skin", but the cascade still finds
+    # it: the person standing there from the first frame must not be learnt as the room.
+    plan = plan_clip(ClipConfig("wave_right", 20, seed=101, width=W, height=H, fps=15.0))
+    frame, person, _ = render_frame(plan, 0)
+    frame = np.clip(frame * np.array(gains), 0, 255).astype(np.uint8)
+    boxes = FaceDetector()(frame)
+    assert boxes
+    assert (choose_face(boxes, skin_mask(frame, FeatureConfig())) is None) == (gains != (1.0, 1.0, 1.0))
+    tracker = Tracker(upperpose.Camera.perspective(float(W), (W - 1) / 2, (H - 1) / 2), None, fps=15.0)
+    tracker.update(frame)
+    assert tracker.background is not None
+    kept = error(tracker.background.plate, frame)[person] <= FeatureConfig().sub_threshold
+    assert kept.mean() < 0.3  # the person's pixels are inpainted, not taken as the room

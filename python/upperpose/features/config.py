@@ -342,6 +342,12 @@ class FeatureConfig:
     """Background estimation: when the median image shows no face (the head moved too much),
     faces are looked for in this many samples spread over the clip."""
 
+    bg_face_steady: float = 0.75
+    """Background estimation: when no face box in the median image or the samples is mostly skin,
+    a box the cascade finds in one place and size in at least this share of the samples is the
+    person's face (a real face under cool or dim light fails the skin rule, while false boxes
+    come and go). 0 turns this off."""
+
     bg_face_agreement: float = 0.25
     """Background estimation: a sample's face anchors the person cut only when the median image
     agrees with the sample on at least this share of the face box (the person stood there long
@@ -490,7 +496,7 @@ class FeatureConfig:
             raise InputError(f"exposure_tolerance must be >= 0, got {self.exposure_tolerance}")
         if self.exposure_step < 1:
             raise InputError(f"exposure_step must be >= 1, got {self.exposure_step}")
-        for name in ("bg_face_min_skin", "bg_face_agreement"):
+        for name in ("bg_face_min_skin", "bg_face_steady", "bg_face_agreement"):
             if not 0 <= getattr(self, name) <= 1:
                 raise InputError(f"{name} must be within 0..1, got {getattr(self, name)}")
         if not self.bg_grabcut_scale >= 1:

@@ -10,6 +10,7 @@ rule. Tracking checks now and then that the model's head is still on the face
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import cast
 
 import cv2
@@ -20,6 +21,9 @@ FaceBox = tuple[int, int, int, int]
 # The same person's face at another distance or angle: its box within these factors of the
 # width expected.
 SAME_FACE_SIZES = (0.7, 1.45)
+# A face box "in one place": centre and width within this share of its width (SteadyFace,
+# steady_face).
+STEADY_TOLERANCE = 0.25
 
 
 def face_centre(face: FaceBox) -> npt.NDArray[np.float64]:
@@ -127,6 +131,34 @@ def choose_face(boxes: list[FaceBox], skin: npt.NDArray[np.uint8], min_skin: flo
     return best
 
 
+def same_place(box: FaceBox, reference: FaceBox, tolerance: float) -> bool:
+    """Whether `box` has the centre and width of `reference` within `tolerance` of its width."""
+    width = reference[2]
+    return (
+        float(np.hypot(*(face_centre(box) - face_centre(reference)))) < tolerance * width
+        and abs(box[2] - width) < tolerance * width
+    )
+
+
+def steady_face(
+    boxes_per_frame: Sequence[list[FaceBox]], share: float, tolerance: float = STEADY_TOLERANCE
+) -> FaceBox | None:
+    """The face box the cascade found in one place and size in at least `share` of the frames.
+
+    For frames spread over a video (no frame order to follow, unlike `SteadyFace`): each box is
+    counted in the frames holding a box `same_place` as it; the box counted in most frames wins,
+    the largest on ties. None when no box reaches `share` (or `share` is 0: the rule is off).
+    """
+    if share <= 0 or not boxes_per_frame:
+        return None
+    candidates = [box for boxes in boxes_per_frame for box in boxes]
+    counts = [sum(any(same_place(b, box, tolerance) for b in boxes) for boxes in boxes_per_frame) for box in candidates]
+    ranked = sorted(zip(counts, candidates), key=lambda c: (-c[0], -c[1][2]))
+    if not ranked or ranked[0][0] < share * len(boxes_per_frame):
+        return None
+    return ranked[0][1]
+
+
 class SteadyFace:
     """The largest face box, once the cascade has found it in one place for some frames in a row.
 
@@ -141,7 +173,7 @@ class SteadyFace:
             a face width a frame, is not steady).
     """
 
-    def __init__(self, frames: int, tolerance: float = 0.25) -> None:
+    def __init__(self, frames: int, tolerance: float = STEADY_TOLERANCE) -> None:
         self.frames, self.tolerance = frames, tolerance
         self.reset()
 
@@ -154,13 +186,7 @@ class SteadyFace:
         """Takes one frame's face boxes; returns the largest once it has been steady long enough."""
         box = max(boxes, key=lambda b: b[2], default=None)
         first = self._first
-        same = (
-            box is not None
-            and first is not None
-            and float(np.hypot(*(face_centre(box) - face_centre(first)))) < self.tolerance * first[2]
-            and abs(box[2] - first[2]) < self.tolerance * first[2]
-        )
-        if same:
+        if box is not None and first is not None and same_place(box, first, self.tolerance):
             self._streak += 1
         else:
             self._first, self._streak = box, int(box is not None)

@@ -23,7 +23,14 @@ import numpy.typing as npt
 from upperpose.features.change import colour_change
 from upperpose.features.checks import Frame, Mask
 from upperpose.features.config import FeatureConfig, PersonTemplate
-from upperpose.features.faces import FaceBox, FaceDetector, choose_face
+from upperpose.features.faces import (
+    STEADY_TOLERANCE,
+    FaceBox,
+    FaceDetector,
+    choose_face,
+    same_place,
+    steady_face,
+)
 from upperpose.features.parallel import map_in_threads
 from upperpose.features.person_skin import skin_of_face
 from upperpose.features.skin import skin_mask
@@ -44,22 +51,38 @@ def face_of_median(median: Frame, samples: Sequence[Frame], config: FeatureConfi
     The median's own face when the cascade finds one; else, of the faces in `bg_face_samples`
     samples spread over the clip, the one whose box, or the chest box below it (a person who
     stays put while the head moves), the median agrees with most (share of pixels within
-    `bg_person_match`), if at least `bg_face_agreement`.
+    `bg_person_match`), if at least `bg_face_agreement`. Faces must be mostly skin
+    (`bg_face_min_skin`); when no face is, a box the cascade finds in one place in
+    `bg_face_steady` of the samples is taken instead (a real face under cool or dim light
+    fails the skin rule; false boxes come and go), on the same agreement rule.
     """
     detect = FaceDetector(downscale=1.0)
     face = find_face(median, config, detect)
     if face is not None or not samples:
         return face
-    best, best_share = None, config.bg_face_agreement
     picks = np.linspace(0, len(samples) - 1, min(config.bg_face_samples, len(samples))).round().astype(int)
-    for k in dict.fromkeys(picks.tolist()):
-        box = find_face(samples[k], config, detect)
-        if box is None:
-            continue
-        share = max(agreement(samples[k], median, region, config) for region in (box, chest_box(box, config)))
-        if share >= best_share:
+    picked = [samples[k] for k in dict.fromkeys(picks.tolist())]
+    boxes = [detect(sample) for sample in picked]
+
+    def agreeing(sample: Frame, box: FaceBox) -> float:
+        return max(agreement(sample, median, region, config) for region in (box, chest_box(box, config)))
+
+    best, best_share = None, config.bg_face_agreement
+    for sample, found in zip(picked, boxes):
+        box = choose_face(found, skin_mask(sample, config), min_skin=config.bg_face_min_skin)
+        if box is not None and (share := agreeing(sample, box)) >= best_share:
             best, best_share = box, share
-    return best
+    if best is not None:
+        return best
+    steady = steady_face(boxes, config.bg_face_steady)
+    if steady is None:
+        return None
+    shares = [
+        agreeing(sample, steady)
+        for sample, found in zip(picked, boxes)
+        if any(same_place(b, steady, STEADY_TOLERANCE) for b in found)
+    ]
+    return steady if max(shares, default=0.0) >= config.bg_face_agreement else None
 
 
 def chest_box(face: FaceBox, config: FeatureConfig) -> FaceBox:

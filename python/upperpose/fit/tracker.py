@@ -267,11 +267,18 @@ class Tracker:
         self._extract = FeatureExtractor(background, self.config.features, reuse_buffers=True)
 
     def _start_background(self, frame: npt.NDArray[np.uint8]) -> None:
-        """Starts the online background from the first frame, the body around its face left out."""
+        """Starts the online background from the first frame, the body around its face left out.
+
+        The face is the box most skin; when none passes the skin rule (a real face under a bluish
+        webcam's light), the largest box: a person learnt into the plate stays invisible while
+        they keep still, room held by mistake is learnt once seen beside the person.
+        """
         config = self.config.features or FeatureConfig()
         frame = check_frame(frame, "frame")
         self._first_faces = self._detect_faces(frame)
         face = choose_face(self._first_faces, skin_mask(frame, config))
+        if face is None and self._first_faces:
+            face = max(self._first_faces, key=lambda box: box[2])
         self._online = OnlineBackground(frame, [face] if face is not None else [], config)
         self._set_background(self._online.background)
 
