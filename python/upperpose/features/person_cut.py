@@ -42,7 +42,12 @@ def find_face(frame: Frame, config: FeatureConfig, detect: FaceDetector | None =
     Runs at full size: at the tracker's downscale the cascade misses some faces of 50 px.
     """
     detect = detect or FaceDetector(downscale=1.0)
-    return choose_face(detect(frame), skin_mask(frame, config), min_skin=config.bg_face_min_skin)
+    return skin_face(frame, detect(frame), config)
+
+
+def skin_face(frame: Frame, boxes: list[FaceBox], config: FeatureConfig) -> FaceBox | None:
+    """Of the face boxes found in `frame`, the one most skin, if at least `bg_face_min_skin`."""
+    return choose_face(boxes, skin_mask(frame, config), min_skin=config.bg_face_min_skin)
 
 
 def face_of_median(median: Frame, samples: Sequence[Frame], config: FeatureConfig) -> FaceBox | None:
@@ -69,7 +74,7 @@ def face_of_median(median: Frame, samples: Sequence[Frame], config: FeatureConfi
 
     best, best_share = None, config.bg_face_agreement
     for sample, found in zip(picked, boxes):
-        box = choose_face(found, skin_mask(sample, config), min_skin=config.bg_face_min_skin)
+        box = skin_face(sample, found, config)
         if box is not None and (share := agreeing(sample, box)) >= best_share:
             best, best_share = box, share
     if best is not None:

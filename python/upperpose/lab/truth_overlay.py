@@ -19,6 +19,7 @@ import cv2
 import numpy as np
 import numpy.typing as npt
 
+from upperpose.draw import BONES as STICK_FIGURE
 from upperpose.exceptions import UpperposeError
 from upperpose.io.files import write_image
 from upperpose.io.overlay import contact_sheet
@@ -27,8 +28,8 @@ from upperpose.io.video import VideoReader
 
 FloatArray = npt.NDArray[np.float64]
 Image = npt.NDArray[np.uint8]
-# Joint pairs drawn as bones (JOINT_NAMES order: head, shoulders, elbows, hands).
-BONES = ((0, 1), (0, 2), (1, 2), (1, 3), (3, 5), (2, 4), (4, 6))
+# Joint pairs drawn as bones: the head to each shoulder, then the model's stick figure.
+BONES = ((0, 1), (0, 2), *STICK_FIGURE)
 SHORT_NAMES = ("h", "rs", "ls", "re", "le", "rh", "lh")
 TRUTH_COLOUR, MINE_COLOUR = (0, 220, 0), (0, 0, 255)
 
