@@ -69,6 +69,18 @@ def test_a_steady_face_counts_after_its_frames_and_a_jump_or_a_gap_starts_again(
     assert SteadyFace(1).update([face]) == face
 
 
+def test_a_false_box_that_comes_and_goes_does_not_break_the_faces_run() -> None:
+    # A larger false detection on the shirt in frames 2 and 3 (0-based): the face still counts
+    # from its first frame, and the false box, never steady, is not returned though larger.
+    steady = SteadyFace(4)
+    face, shirt = (100, 80, 40, 40), (80, 200, 60, 60)
+    frames = [[face], [face], [shirt, face], [shirt, face], [face]]
+    assert [steady.update(boxes) for boxes in frames] == [None, None, None, face, face]
+    # Two steady boxes: the larger.
+    steady = SteadyFace(2)
+    assert [steady.update([face, shirt]) for _ in range(2)] == [None, shirt]
+
+
 def test_a_face_walking_in_is_never_steady() -> None:
     # A fifth of its width a frame: each step is small, the run drifts out of place.
     steady = SteadyFace(3)

@@ -160,14 +160,16 @@ def steady_face(
 
 
 class SteadyFace:
-    """The largest face box, once the cascade has found it in one place for some frames in a row.
+    """The largest face box that the cascade has found in one place for some frames in a row.
 
     A real face stays put from frame to frame while the cascade's false detections (a cushion,
     a patterned shirt) come and go, so steadiness can stand in for the skin test on a face that
-    the light leaves with little generic skin (cool or dim light, a bluish webcam).
+    the light leaves with little generic skin (cool or dim light, a bluish webcam). Every place
+    keeps its own run of frames, so a false box that comes and goes beside the face (a larger
+    one on a patterned shirt) does not break the face's run.
 
     Args:
-        frames: frames in a row the largest box must keep its place and size (>= 1).
+        frames: frames in a row a box must keep its place and size (>= 1).
         tolerance: how far its centre and width may move from where the run of frames began, in
             face widths (measured from the run's first box, so a person walking in, a fifth of
             a face width a frame, is not steady).
@@ -179,15 +181,21 @@ class SteadyFace:
 
     def reset(self) -> None:
         """Forgets the faces seen so far."""
-        self._first: FaceBox | None = None
-        self._streak = 0
+        self._runs: list[tuple[FaceBox, int]] = []  # (the run's first box, frames in a row)
 
     def update(self, boxes: list[FaceBox]) -> FaceBox | None:
-        """Takes one frame's face boxes; returns the largest once it has been steady long enough."""
-        box = max(boxes, key=lambda b: b[2], default=None)
-        first = self._first
-        if box is not None and first is not None and same_place(box, first, self.tolerance):
-            self._streak += 1
-        else:
-            self._first, self._streak = box, int(box is not None)
-        return box if box is not None and self._streak >= self.frames else None
+        """Takes one frame's face boxes; returns the largest steady one, or None."""
+        runs: list[tuple[FaceBox, int]] = []
+        for first, streak in self._runs:
+            if any(same_place(box, first, self.tolerance) for box in boxes):
+                runs.append((first, streak + 1))
+        for box in boxes:
+            if not any(same_place(box, first, self.tolerance) for first, _ in runs):
+                runs.append((box, 1))
+        self._runs = runs
+        steady = [
+            box
+            for box in boxes
+            if any(streak >= self.frames and same_place(box, first, self.tolerance) for first, streak in runs)
+        ]
+        return max(steady, key=lambda b: b[2], default=None)
