@@ -9,6 +9,9 @@ import numpy as np
 import pytest
 
 from upperpose import Pose, cli
+from upperpose.commands.features import tracked_features
+from upperpose.features import FeatureConfig
+from upperpose.fit.pipeline import VideoTracking
 from upperpose.lab.feature_scene import render_scene, textured_background
 
 H, W = 240, 320
@@ -70,4 +73,45 @@ def test_frame_past_the_end_is_an_error(clip, tmp_path, capsys) -> None:
     out = tmp_path / "sheet.png"
     assert cli.main(["features", str(clip / "clip.avi"), "--frame", "400", "-o", str(out)]) == 1
     assert "past its end" in capsys.readouterr().err
+    assert not out.exists()
+
+
+def test_as_tracked_shows_the_trackers_own_features_of_that_frame(clip, tmp_path) -> None:
+    # The sheet's features are the ones the tracker computed at frame 35 (same frame, not one
+    # off), and its prediction found the head's skin within a few pixels of the truth's head.
+    frame, features, background, _ = tracked_features(
+        str(clip / "clip.avi"), 35, str(clip / "plate.png"), FeatureConfig()
+    )
+    with VideoTracking(str(clip / "clip.avi"), str(clip / "plate.png")) as run:
+        seen = [(image, run.tracker.features) for _, (image, _) in zip(range(36), run.frames())]
+    image, expected = seen[35]
+    assert expected is not None and not background.estimated
+    assert np.array_equal(frame, image)
+    assert np.array_equal(features.sub, expected.sub) and np.array_equal(features.skin, expected.skin)
+    truth = json.loads((clip / "gt.json").read_text())["frames"][35]["joints_2d"]
+    assert features.head is not None
+    assert np.hypot(*(np.asarray(features.head.xy) - np.asarray(truth[0]))) < 15.0
+    out = tmp_path / "sheet.png"
+    args = [
+        "features",
+        str(clip / "clip.avi"),
+        "--frame",
+        "35",
+        "--as-tracked",
+        "--background",
+        str(clip / "plate.png"),
+    ]
+    assert cli.main([*args, "-o", str(out)]) == 0
+    assert cv2.imread(str(out)).shape[1] == 4 * 320
+
+
+def test_as_tracked_refuses_poses_and_frames_past_the_end(clip, tmp_path, capsys) -> None:
+    out = tmp_path / "sheet.png"
+    video = str(clip / "clip.avi")
+    with pytest.raises(SystemExit) as refused:  # argparse's usage line and exit 2, as for any bad option
+        cli.main(["features", video, "--as-tracked", "--poses", str(clip / "gt.json"), "-o", str(out)])
+    assert refused.value.code == 2
+    assert "--poses" in capsys.readouterr().err
+    assert cli.main(["features", video, "--as-tracked", "--frame", "40", "-o", str(out)]) == 1
+    assert "has only 40 frames" in capsys.readouterr().err
     assert not out.exists()

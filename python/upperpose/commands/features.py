@@ -22,7 +22,9 @@ from upperpose.features import (
     FeatureExtractor,
 )
 from upperpose.features.background import background_from_video
+from upperpose.features.frame import FrameFeatures
 from upperpose.features.sheet import contact_sheet
+from upperpose.fit.pipeline import VideoTracking
 from upperpose.fit.tracker_config import TrackerConfig
 from upperpose.fit.work_size import WorkSize
 from upperpose.io.files import write_image
@@ -58,6 +60,13 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         help="poses file (SPEC 9 format, e.g. tracker output or ground "
         "truth): the previous frame's joints_2d serve as the prediction for head and hand matching",
     )
+    p.add_argument(
+        "--as-tracked",
+        action="store_true",
+        help="track the video up to the frame (default settings) and show the features the tracker "
+        "computed there: with the skin colour it learnt from the face, the background as learnt "
+        "so far and its own prediction (slower: every frame before it is tracked)",
+    )
 
 
 def read_frames(path: str, index: int) -> tuple[npt.NDArray[np.uint8] | None, npt.NDArray[np.uint8]]:
@@ -92,11 +101,48 @@ def predicted_joints(path: str, index: int) -> npt.NDArray[np.float64] | None:
     return np.asarray(entry["joints_2d"], dtype=np.float64)
 
 
+def tracked_features(
+    video: str, index: int, background: str | None, config: FeatureConfig
+) -> tuple[npt.NDArray[np.uint8], FrameFeatures, Background, WorkSize]:
+    """Tracks `video` up to frame `index` and returns what the tracker saw there.
+
+    Returns:
+        The frame at the tracker's working size, its features, the background they were
+        computed against and the working size.
+
+    Raises:
+        VideoError: the video cannot be read or is shorter than `index + 1` frames.
+    """
+    with VideoTracking(video, background, config=TrackerConfig(features=config)) as run:
+        count = 0
+        for count, (frame, _) in enumerate(run.frames(), start=1):
+            if count > index:
+                features = run.tracker.features
+                if features is None or run.tracker.background is None:
+                    raise VideoError(f"the tracker computed no features at frame {index} of {video}")
+                return run.work.frame(frame), features, run.tracker.background, run.work
+    raise VideoError(f"video {video} has only {count} frames; --frame {index} is past its end")
+
+
 def run(args: argparse.Namespace) -> int:
     """Computes the features of the frame and writes the sheet."""
     if args.frame < 0:
         raise OptionError(f"--frame must be >= 0, got {args.frame}")
+    if args.as_tracked and args.poses:
+        raise OptionError("--as-tracked uses the tracker's own prediction: leave out --poses")
     config = FeatureConfig(skin_space=args.skin)
+    if args.as_tracked:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", CleanPlateWarning)
+            frame, features, background, work = tracked_features(args.video, args.frame, args.background, config)
+        for w in caught:
+            print(f"upperpose features: warning: {w.message}")
+        title = f"{Path(args.video).name}  frame {args.frame}  as tracked  skin rule: {args.skin}"
+        if work.reduced:
+            title += f"  (tracked at {work.work[0]}x{work.work[1]})"
+        path = write_image(args.output, contact_sheet(frame, features, background, title))
+        print(f"wrote {path}")
+        return 0
     previous, frame = read_frames(args.video, args.frame)
     # The features the tracker sees: a large video's at its working size.
     work = WorkSize.of(frame.shape[1], frame.shape[0], TrackerConfig().work_pixels)
