@@ -79,7 +79,7 @@ def test_frame_past_the_end_is_an_error(clip, tmp_path, capsys) -> None:
 def test_as_tracked_shows_the_trackers_own_features_of_that_frame(clip, tmp_path) -> None:
     # The sheet's features are the ones the tracker computed at frame 35 (same frame, not one
     # off), and its prediction found the head's skin within a few pixels of the truth's head.
-    frame, features, background, _ = tracked_features(
+    frame, features, background, room, _ = tracked_features(
         str(clip / "clip.avi"), 35, str(clip / "plate.png"), FeatureConfig()
     )
     with VideoTracking(str(clip / "clip.avi"), str(clip / "plate.png")) as run:

@@ -119,11 +119,26 @@ def test_room_in_the_persons_skin_colour_stays_out(plate: np.ndarray, estimated:
     scene = render_scene(pose, room, seed=13)
     background = Background.from_plate(room, estimated=estimated, method="masked median" if estimated else "given")
     extract = FeatureExtractor(background)
+    assert np.array_equal(extract.room_skin, background.skin)  # the generic rule's room skin
     assert extract.learn_skin(scene.frame, face_box(pose)) is not None
+    # The room in the person's colour (the panel) and the generic rule's room skin.
+    assert extract.room_skin[40:100, 490:590].mean() > 250
+    assert not np.any(background.skin & ~extract.room_skin)
     features = extract(scene.frame, scene.joints)
     assert features.skin0[40:100, 490:590].mean() > 200  # its colour is the person's ...
     assert not features.skin[30:110, 480:600].any()  # ... but it is the room's
     assert len(features.blobs) == 3
+
+
+def test_forgetting_the_persons_skin_leaves_the_generic_rules_room_skin(plate: np.ndarray) -> None:
+    pose = Pose.a_pose()
+    scene = render_scene(pose, plate, seed=12)
+    background = Background.from_plate(plate)
+    extract = FeatureExtractor(background)
+    assert extract.learn_skin(scene.frame, face_box(pose)) is not None
+    assert np.count_nonzero(extract.room_skin) > np.count_nonzero(background.skin)
+    extract.forget_skin()
+    assert np.array_equal(extract.room_skin, background.skin)
 
 
 def test_person_skin_can_be_turned_off(plate: np.ndarray) -> None:

@@ -103,12 +103,12 @@ def predicted_joints(path: str, index: int) -> npt.NDArray[np.float64] | None:
 
 def tracked_features(
     video: str, index: int, background: str | None, config: FeatureConfig
-) -> tuple[npt.NDArray[np.uint8], FrameFeatures, Background, WorkSize]:
+) -> tuple[npt.NDArray[np.uint8], FrameFeatures, Background, npt.NDArray[np.uint8], WorkSize]:
     """Tracks `video` up to frame `index` and returns what the tracker saw there.
 
     Returns:
         The frame at the tracker's working size, its features, the background they were
-        computed against and the working size.
+        computed against, the room's pixels taken for skin-coloured and the working size.
 
     Raises:
         VideoError: the video cannot be read or is shorter than `index + 1` frames.
@@ -117,10 +117,10 @@ def tracked_features(
         count = 0
         for count, (frame, _) in enumerate(run.frames(), start=1):
             if count > index:
-                features = run.tracker.features
-                if features is None or run.tracker.background is None:
+                features, room = run.tracker.features, run.tracker.room_skin
+                if features is None or room is None or run.tracker.background is None:
                     raise VideoError(f"the tracker computed no features at frame {index} of {video}")
-                return run.work.frame(frame), features, run.tracker.background, run.work
+                return run.work.frame(frame), features, run.tracker.background, room, run.work
     raise VideoError(f"video {video} has only {count} frames; --frame {index} is past its end")
 
 
@@ -134,13 +134,13 @@ def run(args: argparse.Namespace) -> int:
     if args.as_tracked:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always", CleanPlateWarning)
-            frame, features, background, work = tracked_features(args.video, args.frame, args.background, config)
+            frame, features, background, room, work = tracked_features(args.video, args.frame, args.background, config)
         for w in caught:
             print(f"upperpose features: warning: {w.message}")
         title = f"{Path(args.video).name}  frame {args.frame}  as tracked  skin rule: {args.skin}"
         if work.reduced:
             title += f"  (tracked at {work.work[0]}x{work.work[1]})"
-        path = write_image(args.output, contact_sheet(frame, features, background, title))
+        path = write_image(args.output, contact_sheet(frame, features, background, title, room))
         print(f"wrote {path}")
         return 0
     previous, frame = read_frames(args.video, args.frame)

@@ -142,6 +142,14 @@ class FeatureExtractor:
         self.person_skin: PersonSkin | None = None
         self._face_zone: tuple[tuple[float, float], float] | None = None
 
+    @property
+    def room_skin(self) -> Mask:
+        """`(H, W)` uint8, 255 where the room is taken for skin-coloured.
+
+        The background's skin, and the room in the person's colour once `learn_skin` learnt it.
+        """
+        return cast(Mask, cv2.bitwise_not(self._not_background_skin))
+
     def learn_skin(self, frame: Frame, face: tuple[int, int, int, int], whole_face: bool = False) -> PersonSkin | None:
         """Learns the person's skin colour from their face (`config.person_skin`).
 

@@ -38,7 +38,11 @@ def label_tile(image: npt.NDArray[np.uint8], title: str, detail: str = "") -> np
         cv2.LINE_AA,
     )
     if detail:
+        room = TILE_WIDTH - cv2.getTextSize(title, cv2.FONT_HERSHEY_SIMPLEX, 0.5, 1)[0][0] - 15
         size = cv2.getTextSize(detail, cv2.FONT_HERSHEY_SIMPLEX, 0.4, 1)[0][0]
+        while size > room and len(detail) > 3:  # cut short rather than written over the title
+            detail = detail[: max(len(detail) - 4, 0)].rstrip(" ,") + "..."
+            size = cv2.getTextSize(detail, cv2.FONT_HERSHEY_SIMPLEX, 0.4, 1)[0][0]
         cv2.putText(
             bar,
             detail,
@@ -104,7 +108,11 @@ def sil_overlay(frame: Frame, features: FrameFeatures) -> npt.NDArray[np.uint8]:
 
 
 def contact_sheet(
-    frame: Frame, features: FrameFeatures, background: Background, title: str = ""
+    frame: Frame,
+    features: FrameFeatures,
+    background: Background,
+    title: str = "",
+    room_skin: npt.NDArray[np.uint8] | None = None,
 ) -> npt.NDArray[np.uint8]:
     """Every feature image of one frame, labelled, four to a row.
 
@@ -113,6 +121,9 @@ def contact_sheet(
         features: its features.
         background: the background model used.
         title: a line written above the tiles (e.g. the video and frame number).
+        room_skin: the room's pixels the extractor took for skin-coloured
+            (`FeatureExtractor.room_skin`, in the person's learnt colour too); the background's
+            own (generic rule) when None.
 
     Returns:
         A BGR image.
@@ -123,10 +134,11 @@ def contact_sheet(
         return f"{100.0 * cv2.countNonZero(mask) / pixels:.1f}%"
 
     how = "estimated: " + background.method if background.estimated else "clean plate"
+    room = background.skin if room_skin is None else room_skin
     tiles = [
         label_tile(frame, "frame"),
         label_tile(background.plate, "background", how),
-        label_tile(background.skin, "background skin", share(background.skin)),
+        label_tile(room, "background skin", share(room)),
     ]
     for name, image in features.images().items():
         tiles.append(label_tile(image, name, share(image)))

@@ -183,6 +183,14 @@ class Tracker:
         return self._features
 
     @property
+    def room_skin(self) -> npt.NDArray[np.uint8] | None:
+        """The room's pixels the features take for skin-coloured (None before the first frame).
+
+        See `FeatureExtractor.room_skin`.
+        """
+        return None if self._extract is None else self._extract.room_skin
+
+    @property
     def learns_background(self) -> bool:
         """Whether the background is learnt from the frames alone (no clean plate, no estimate).
 
