@@ -79,10 +79,9 @@ def test_frame_past_the_end_is_an_error(clip, tmp_path, capsys) -> None:
 def test_as_tracked_shows_the_trackers_own_features_of_that_frame(clip, tmp_path) -> None:
     # The sheet's features are the ones the tracker computed at frame 35 (same frame, not one
     # off), and its prediction found the head's skin within a few pixels of the truth's head.
-    frame, features, background, room, _ = tracked_features(
-        str(clip / "clip.avi"), 35, str(clip / "plate.png"), FeatureConfig()
-    )
-    with VideoTracking(str(clip / "clip.avi"), str(clip / "plate.png")) as run:
+    video, plate = str(clip / "clip.avi"), str(clip / "plate.png")
+    frame, features, background, _, _ = tracked_features(video, 35, plate, FeatureConfig())
+    with VideoTracking(video, plate) as run:
         seen = [(image, run.tracker.features) for _, (image, _) in zip(range(36), run.frames())]
     image, expected = seen[35]
     assert expected is not None and not background.estimated
@@ -92,16 +91,7 @@ def test_as_tracked_shows_the_trackers_own_features_of_that_frame(clip, tmp_path
     assert features.head is not None
     assert np.hypot(*(np.asarray(features.head.xy) - np.asarray(truth[0]))) < 15.0
     out = tmp_path / "sheet.png"
-    args = [
-        "features",
-        str(clip / "clip.avi"),
-        "--frame",
-        "35",
-        "--as-tracked",
-        "--background",
-        str(clip / "plate.png"),
-    ]
-    assert cli.main([*args, "-o", str(out)]) == 0
+    assert cli.main(["features", video, "--frame", "35", "--as-tracked", "--background", plate, "-o", str(out)]) == 0
     assert cv2.imread(str(out)).shape[1] == 4 * 320
 
 
