@@ -55,7 +55,7 @@ def test_masked_median_recovers_plate_behind_a_moving_object() -> None:
     plate = textured_background(H, W, seed=2)
     frames = moving_square_frames(plate, 30, size=24)
     plain = np.median(np.stack(frames), axis=0).astype(np.uint8)
-    estimated, cut = iterative_masked_median(frames, FeatureConfig(bg_mask_dilate=5))
+    estimated, cut, _ = iterative_masked_median(frames, FeatureConfig(bg_mask_dilate=5))
     assert not cut  # no face: nobody to cut out
     # The plain median is pulled towards the object where it passed; the masked one is not.
     assert error(estimated, plate).mean() < error(plain, plate).mean()
@@ -68,7 +68,7 @@ def test_masked_median_keeps_an_object_that_hardly_moves() -> None:
     plate = textured_background(H, W, seed=3)
     frames = moving_square_frames(plate, 30)
     frames += [frames[15]] * 30
-    estimated, _ = iterative_masked_median(frames, FeatureConfig(bg_mask_dilate=5))
+    estimated = iterative_masked_median(frames, FeatureConfig(bg_mask_dilate=5)).plate
     assert (error(estimated, plate) > 30).sum() > 0.5 * 40 * 40
 
 
@@ -110,7 +110,7 @@ def test_the_plate_is_the_same_on_any_number_of_threads(still_person, monkeypatc
     plates = []
     for threads in ("1", "3"):
         monkeypatch.setenv(THREADS_ENV, threads)
-        plates.append(iterative_masked_median(frames, FeatureConfig())[0])
+        plates.append(iterative_masked_median(frames, FeatureConfig()).plate)
     np.testing.assert_array_equal(plates[0], plates[1])
 
 
@@ -230,6 +230,23 @@ def test_person_present_from_the_first_frame_is_cut_out_of_the_plate(still_perso
     assert np.median(error(cut.plate, room)[~np.any(persons, axis=0)]) <= 4
 
 
+def test_the_estimate_marks_where_it_guessed(still_person) -> None:
+    # No sample shows the room behind the torso of a person who stands still: the plate there
+    # is inpainted, a guess, and is marked so (`Background.unseen`); nothing far from them is.
+    frames, persons, _ = still_person
+    with pytest.warns(CleanPlateWarning):
+        background = estimate_background(frames[:1], frames)
+    assert background.unseen is not None
+    unseen = background.unseen > 0
+    always = np.all(persons, axis=0)
+    assert unseen[always].mean() > 0.8
+    # Within the samples' masks grown by `bg_mask_dilate` (15 px) and GrabCut's edge.
+    near = cv2.dilate(np.any(persons, axis=0).astype(np.uint8), np.ones((41, 41), np.uint8)) > 0
+    assert not unseen[~near].any()
+    with pytest.warns(CleanPlateWarning):
+        assert estimate_background(frames[:1], frames, FeatureConfig(bg_cut_person=False)).unseen is None
+
+
 def test_person_cut_finds_the_person_and_nothing_without_a_face(still_person) -> None:
     frames, persons, _ = still_person
     median = np.median(np.stack(frames), axis=0).astype(np.uint8)
@@ -313,7 +330,7 @@ def test_bare_arms_held_out_for_the_whole_video_are_cut_out_of_the_plate() -> No
     assert ((cut > 0) & ~person).sum() < 0.03 * person.sum()  # and hardly any room
 
     def arm_in_sil(config: FeatureConfig) -> float:
-        plate, _ = iterative_masked_median(samples, config)
+        plate = iterative_masked_median(samples, config).plate
         sil = compute_features(frame, Background.from_plate(plate, config)).sil > 0
         return float(sil[missed].mean())
 

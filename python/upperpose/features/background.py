@@ -17,7 +17,7 @@ import os
 import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import cast
+from typing import NamedTuple, cast
 
 import cv2
 import numpy as np
@@ -25,7 +25,7 @@ import numpy.typing as npt
 
 from upperpose.exceptions import InputError, VideoError
 from upperpose.features.change import colour_change
-from upperpose.features.checks import Frame, Mask, check_frame
+from upperpose.features.checks import Frame, Mask, check_frame, check_mask
 from upperpose.features.config import FeatureConfig
 from upperpose.features.faces import FaceDetector
 from upperpose.features.order_stats import kth_smallest
@@ -71,10 +71,12 @@ class Background:
         plate: `(H, W, 3)` uint8 BGR image of the empty scene.
         dx, dy: `(H, W)` int16 Sobel derivatives of its (blurred) grey image.
         skin: `(H, W)` uint8, 255 where the plate itself is skin-coloured (dilated), so that
-            static skin-coloured objects are not taken for skin.
+            static skin-coloured objects are not taken for skin; never where it is `unseen`.
         config: the configuration these were computed with.
         estimated: True when the plate was estimated from the video, not given.
         method: how the plate was made: "given", "lead-in median" or "masked median".
+        unseen: `(H, W)` uint8, 255 where the plate is a guess (inpainted where the person
+            stood in every sample), or None; not room skin (`seen_skin`).
     """
 
     plate: Frame
@@ -85,6 +87,7 @@ class Background:
     estimated: bool = False
     method: str = "given"
     notes: list[str] = field(default_factory=list)
+    unseen: Mask | None = None
 
     @property
     def size(self) -> tuple[int, int]:
@@ -99,6 +102,7 @@ class Background:
         *,
         estimated: bool = False,
         method: str = "given",
+        unseen: Mask | None = None,
     ) -> Background:
         """Derivative images and skin mask of a clean plate.
 
@@ -107,26 +111,41 @@ class Background:
             config: thresholds; defaults when None.
             estimated: whether the plate was estimated rather than photographed.
             method: a short description of how the plate was made.
+            unseen: `(H, W)`, nonzero where the plate is a guess (the attribute above).
 
         Raises:
-            ValueError: the plate is not an `(H, W, 3)` uint8 image.
+            ValueError: the plate is not an `(H, W, 3)` uint8 image, or `unseen` not `(H, W)`.
         """
         config = config or FeatureConfig()
         plate = check_frame(plate, "background")
         dx, dy = sobel_pair(grey_for_edges(plate, config.edge_blur))
-        skin = skin_mask(plate, config)
-        kernel = square(config.background_skin_dilate)
-        if kernel is not None:
-            skin = cast(Mask, cv2.dilate(skin, kernel))
-        for image in (plate, dx, dy, skin):
+        if unseen is not None:
+            unseen = cast(Mask, np.where(check_mask(unseen, "unseen", plate.shape[:2]) > 0, 255, 0).astype(np.uint8))
+        skin = seen_skin(skin_mask(plate, config), unseen, square(config.background_skin_dilate))
+        for image in (plate, dx, dy, skin) + (() if unseen is None else (unseen,)):
             image.setflags(write=False)
-        return cls(plate, dx, dy, skin, config, estimated, method)
+        return cls(plate, dx, dy, skin, config, estimated, method, unseen=unseen)
 
     def with_config(self, config: FeatureConfig) -> Background:
         """The same plate with its derived images recomputed for another configuration."""
         if config == self.config:
             return self
-        return Background.from_plate(self.plate, config, estimated=self.estimated, method=self.method)
+        return Background.from_plate(
+            self.plate, config, estimated=self.estimated, method=self.method, unseen=self.unseen
+        )
+
+
+def seen_skin(skin: Mask, unseen: Mask | None, kernel: npt.NDArray[np.uint8] | None) -> Mask:
+    """`skin` dilated by `kernel` (None: not), then cleared where the plate is a guess (`unseen`).
+
+    Where the plate is a guess its colours were drawn in from around the person, often from the
+    person (their neck, a hoodie): taken for skin-coloured room, they would hide the hands held
+    in front of the body. The price: skin-coloured room right beside the person (a sofa), which
+    the guess's rim reaches over, is taken for skin there.
+    """
+    if kernel is not None:
+        skin = cast(Mask, cv2.dilate(skin, kernel))
+    return skin if unseen is None else cast(Mask, cv2.bitwise_and(skin, cv2.bitwise_not(unseen)))
 
 
 def median_pair(stack: npt.NDArray[np.uint8]) -> tuple[Frame, Frame]:
@@ -214,24 +233,39 @@ def person_still_there(
     return np.stack(masks) > 0
 
 
-def fill_unseen(plate: Frame, foreground: npt.NDArray[np.bool_], config: FeatureConfig) -> Frame:
-    """`plate` with the pixels that are foreground in every sample inpainted from around them."""
-    unseen = cast(Mask, foreground.all(axis=0).astype(np.uint8))
+def fill_unseen(plate: Frame, foreground: npt.NDArray[np.bool_], config: FeatureConfig) -> tuple[Frame, Mask]:
+    """`plate` with the pixels that are foreground in every sample inpainted from around them.
+
+    Returns:
+        The plate and those pixels (255): where it shows a guess, not the room.
+    """
+    unseen = cast(Mask, foreground.all(axis=0).astype(np.uint8) * np.uint8(255))
     if not unseen.any():
-        return plate
-    return cast(Frame, cv2.inpaint(plate, unseen, config.bg_inpaint_radius, cv2.INPAINT_TELEA))
+        return plate, unseen
+    return cast(Frame, cv2.inpaint(plate, unseen, config.bg_inpaint_radius, cv2.INPAINT_TELEA)), unseen
 
 
-def iterative_masked_median(samples: Sequence[Frame], config: FeatureConfig) -> tuple[Frame, bool]:
+class MedianPlate(NamedTuple):
+    """A plate from `iterative_masked_median`.
+
+    Attributes:
+        plate: `(H, W, 3)` uint8 BGR.
+        cut: whether a person was cut out of the median.
+        unseen: `(H, W)` uint8, 255 where no sample showed the room (inpainted), or None.
+    """
+
+    plate: Frame
+    cut: bool
+    unseen: Mask | None
+
+
+def iterative_masked_median(samples: Sequence[Frame], config: FeatureConfig) -> MedianPlate:
     """Temporal median with the person masked out.
 
     Median; the person who stays put cut out of it (`bg_cut_person`); then `bg_iterations`
     rounds of marking each sample's foreground against the current plate (and the cut-out
     person where the sample still shows them) and taking the median of the rest. With a cut-out
     person, pixels masked in every sample are inpainted.
-
-    Returns:
-        The plate and whether a person was cut out.
     """
     stack = np.stack(samples)
     median, lower = median_pair(stack)
@@ -240,13 +274,13 @@ def iterative_masked_median(samples: Sequence[Frame], config: FeatureConfig) -> 
         plate = median
         for _ in range(config.bg_iterations):
             plate = masked_median(stack, foreground_against(stack, plate, config), plate, lower)
-        return plate, False
+        return MedianPlate(plate, False, None)
     still = person_still_there(stack, median, person, config)
-    plate = fill_unseen(masked_median(stack, still, median, lower), still, config)
+    plate, unseen = fill_unseen(masked_median(stack, still, median, lower), still, config)
     for _ in range(config.bg_iterations):
         foreground = still | foreground_against(stack, plate, config)
-        plate = fill_unseen(masked_median(stack, foreground, plate, lower), foreground, config)
-    return plate, True
+        plate, unseen = fill_unseen(masked_median(stack, foreground, plate, lower), foreground, config)
+    return MedianPlate(plate, True, unseen)
 
 
 def shows_a_face(frames: Sequence[Frame], config: FeatureConfig) -> bool:
@@ -291,7 +325,9 @@ def median_samples(lead: Sequence[Frame], samples: Sequence[Frame], config: Feat
     return showing_the_room(list(samples) + list(lead[:1]), config)
 
 
-def estimate_plate(lead: Sequence[Frame], samples: Sequence[Frame], config: FeatureConfig) -> tuple[Frame, str]:
+def estimate_plate(
+    lead: Sequence[Frame], samples: Sequence[Frame], config: FeatureConfig
+) -> tuple[Frame, str, Mask | None]:
     """Estimates the empty scene from the video's lead-in frames and frames sampled over it all.
 
     Args:
@@ -300,8 +336,8 @@ def estimate_plate(lead: Sequence[Frame], samples: Sequence[Frame], config: Feat
         config: thresholds.
 
     Returns:
-        The plate and the method used ("lead-in median", "masked median, person cut out" or
-        "masked median").
+        The plate, the method used ("lead-in median", "masked median, person cut out" or
+        "masked median") and the pixels it guessed (`MedianPlate.unseen`; None: none).
     """
     if lead:
         n = static_prefix(lead, config)
@@ -314,9 +350,9 @@ def estimate_plate(lead: Sequence[Frame], samples: Sequence[Frame], config: Feat
             # it only where the person is. A camera's black first frames are still and empty too.
             the_room = bool(changed) and float(np.median(changed)) < NOT_THE_ROOM
             if someone_enters and the_room and not shows_a_face([lead[0], lead[n // 2], lead[n - 1]], config):
-                return plate, "lead-in median"
-    plate, cut = iterative_masked_median(median_samples(lead, samples, config), config)
-    return plate, "masked median, person cut out" if cut else "masked median"
+                return plate, "lead-in median", None
+    plate, cut, unseen = iterative_masked_median(median_samples(lead, samples, config), config)
+    return plate, "masked median, person cut out" if cut else "masked median", unseen
 
 
 def sample_video(
@@ -387,7 +423,7 @@ def estimate_background(
     size = check_frame(samples[0], "frame 0").shape[:2]
     samples = [check_frame(s, f"sample {i}", size) for i, s in enumerate(samples)]
     lead = [check_frame(f, f"lead-in frame {i}", size) for i, f in enumerate(lead)]
-    plate, method = estimate_plate(lead, samples, config)
+    plate, method, unseen = estimate_plate(lead, samples, config)
     warnings.warn(
         f"no clean plate given: the background was estimated from the video ({method}); "
         "a photo of the empty scene (--background) gives better silhouettes, "
@@ -395,7 +431,7 @@ def estimate_background(
         CleanPlateWarning,
         stacklevel=2,
     )
-    return Background.from_plate(plate, config, estimated=True, method=method)
+    return Background.from_plate(plate, config, estimated=True, method=method, unseen=unseen)
 
 
 def background_from_video(

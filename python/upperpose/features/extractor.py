@@ -10,7 +10,7 @@ import numpy as np
 import numpy.typing as npt
 
 from upperpose.exceptions import InputError
-from upperpose.features.background import Background, Int16Image, square
+from upperpose.features.background import Background, Int16Image, seen_skin, square
 from upperpose.features.blobs import find_skin_blobs
 from upperpose.features.change import colour_change, plate_distance
 from upperpose.features.checks import Frame, Mask, check_frame, check_mask
@@ -197,10 +197,12 @@ class FeatureExtractor:
             self._not_background_skin = self._not_room_skin(self.person_skin)
 
     def _not_room_skin(self, person: PersonSkin) -> Mask:
-        """Pixels where the plate shows neither the generic rule's nor the person's skin colour."""
+        """Pixels where the plate shows neither the generic rule's nor the person's skin colour.
+
+        Where the plate is a guess it shows no room (`seen_skin`).
+        """
         room = person.mask(self.background.plate, room=True)
-        if self.config.background_skin_dilate > 1:
-            room = cast(Mask, cv2.dilate(room, cast(npt.NDArray[np.uint8], square(self.config.background_skin_dilate))))
+        room = seen_skin(room, self.background.unseen, square(self.config.background_skin_dilate))
         return cast(Mask, cv2.bitwise_not(cv2.bitwise_or(room, self.background.skin)))
 
     def forget_skin(self) -> None:

@@ -111,7 +111,8 @@ class OnlineBackground:
         always, a ghost of them. Learning while tracking replaces it wherever the room shows
         away from the person. Every pixel counts as seen and the model as mature (the estimate
         already sums the video): from the first frame the rate is `bg_online_rate`, or
-        `bg_online_change_rate` where the frame differs from the plate.
+        `bg_online_change_rate` where the frame differs from the plate. The estimate's guessed
+        pixels (`Background.unseen`) stay a guess until learnt where the frame agrees with them.
         """
         model = cls.__new__(cls)
         seen = np.full(background.size, 255, np.uint8)
@@ -132,6 +133,8 @@ class OnlineBackground:
         self._held = np.empty((height, width), np.uint8)
         self._busy = np.empty((height, width), np.uint8)
         self._mask = np.empty((height, width), np.uint8)
+        # Where the plate is still a guess (`Background.unseen`), kept up to date while learning.
+        self.guessed: Mask | None = None if background.unseen is None else background.unseen.copy()
         self.background = background
 
     def learn(self, frame: Frame, person: Mask | None, busy: Mask | None = None, changed: Mask | None = None) -> bool:
@@ -168,6 +171,10 @@ class OnlineBackground:
             grown = busy if self._busy_kernel is None else cv2.dilate(busy, self._busy_kernel, dst=self._busy)
             cv2.bitwise_and(mask, cv2.bitwise_not(grown, dst=self._busy), dst=mask)
         self.frames += 1
+        if self.guessed is not None:
+            # A guess the room agrees with where it is learnt is no longer a guess.
+            agrees = mask if changed is None else cv2.bitwise_and(mask, cv2.bitwise_not(changed))
+            cv2.bitwise_and(self.guessed, cv2.bitwise_not(agrees), dst=self.guessed)
         rate = max(1.0 / self.frames, cfg.bg_online_rate)
         if changed is not None and cfg.bg_online_change_rate > rate:
             # Changed pixels go first at the faster rate, the rest at the slow one.
@@ -186,7 +193,9 @@ class OnlineBackground:
         if refresh:
             self._fresh = 0
             plate = cast(Frame, cv2.convertScaleAbs(self.mean))
-            self.background = Background.from_plate(plate, cfg, estimated=True, method=self.background.method)
+            self.background = Background.from_plate(
+                plate, cfg, estimated=True, method=self.background.method, unseen=self.guessed
+            )
         self.last_learn_ms = 1000 * (time.thread_time() - start)
         return refresh
 
@@ -198,7 +207,8 @@ class OnlineBackground:
     def arrays(self) -> dict[str, npt.NDArray[np.generic]]:
         """The model's state (for checking that memory does not grow)."""
         derived = {k: v for k, v in vars(self.background).items() if isinstance(v, np.ndarray)}
-        return {"mean": self.mean, "seen": self.seen, **derived}
+        guessed = {} if self.guessed is None else {"guessed": self.guessed}
+        return {"mean": self.mean, "seen": self.seen, **guessed, **derived}
 
 
 __all__ = ["METHOD", "OnlineBackground", "body_region"]

@@ -81,7 +81,7 @@ def estimate_clip(folder: Path, config: FeatureConfig, threshold: int) -> tuple[
     lead, samples, _ = sample_video(folder / "video.mp4", config)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", CleanPlateWarning)
-        plate, method = estimate_plate(lead, samples, config)
+        plate, method, _ = estimate_plate(lead, samples, config)
     seconds = time.perf_counter() - start
     # The frames the masked median used (a lead-in median used its own).
     used = np.stack(median_samples(lead, samples, config))
