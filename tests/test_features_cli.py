@@ -9,8 +9,10 @@ import numpy as np
 import pytest
 
 from upperpose import Pose, cli
+from upperpose.commands import features as features_command
 from upperpose.commands.features import tracked_features
-from upperpose.features import FeatureConfig
+from upperpose.exceptions import VideoError
+from upperpose.fit import TrackerConfig
 from upperpose.fit.pipeline import VideoTracking
 from upperpose.lab.feature_scene import render_scene, textured_background
 
@@ -80,7 +82,7 @@ def test_as_tracked_shows_the_trackers_own_features_of_that_frame(clip, tmp_path
     # The sheet's features are the ones the tracker computed at frame 35 (same frame, not one
     # off), and its prediction found the head's skin within a few pixels of the truth's head.
     video, plate = str(clip / "clip.avi"), str(clip / "plate.png")
-    frame, features, background, _, _ = tracked_features(video, 35, plate, FeatureConfig())
+    frame, features, background, _, _ = tracked_features(video, 35, plate, TrackerConfig())
     with VideoTracking(video, plate) as run:
         seen = [(image, run.tracker.features) for _, (image, _) in zip(range(36), run.frames())]
     image, expected = seen[35]
@@ -93,6 +95,31 @@ def test_as_tracked_shows_the_trackers_own_features_of_that_frame(clip, tmp_path
     out = tmp_path / "sheet.png"
     assert cli.main(["features", video, "--frame", "35", "--as-tracked", "--background", plate, "-o", str(out)]) == 0
     assert cv2.imread(str(out)).shape[1] == 4 * 320
+
+
+def test_as_tracked_tracks_as_track_would_with_the_same_options(clip, tmp_path, monkeypatch, capsys) -> None:
+    # --focal, --seed, --config and --bg-model reach the tracking; the skin rule of the settings
+    # file holds unless --skin is given. Without --as-tracked they are refused.
+    calls = []
+
+    def recorded(video, index, background, config, focal=None):  # type: ignore[no-untyped-def]
+        calls.append((config, focal))
+        raise VideoError("stop here")
+
+    monkeypatch.setattr(features_command, "tracked_features", recorded)
+    settings = tmp_path / "settings.toml"
+    settings.write_text('[features]\nskin_space = "hsv"\n')
+    video, out = str(clip / "clip.avi"), str(tmp_path / "sheet.png")
+    args = ["features", video, "--as-tracked", "--focal", "500", "--seed", "3", "--bg-model", "online"]
+    assert cli.main([*args, "--config", str(settings), "-o", out]) == 1
+    assert cli.main([*args, "--config", str(settings), "--skin", "rgb", "-o", out]) == 1
+    (first, focal), (second, _) = calls
+    assert focal == 500.0 and first.seed == 3 and first.features.bg_model == "online"
+    assert first.features.skin_space == "hsv" and second.features.skin_space == "rgb"
+    capsys.readouterr()
+    with pytest.raises(SystemExit) as refused:
+        cli.main(["features", video, "--focal", "500", "-o", out])
+    assert refused.value.code == 2 and "--as-tracked" in capsys.readouterr().err
 
 
 def test_as_tracked_refuses_poses_and_frames_past_the_end(clip, tmp_path, capsys) -> None:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 import warnings
 from pathlib import Path
@@ -13,6 +14,7 @@ import numpy as np
 import numpy.typing as npt
 
 from upperpose.commands.limits import OptionError
+from upperpose.commands.track import add_background_model_argument, tracker_config
 from upperpose.exceptions import VideoError
 from upperpose.features import (
     SKIN_SPACES,
@@ -51,8 +53,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--skin",
         choices=SKIN_SPACES,
-        default="rgb+ycrcb",
-        help="skin colour rule (default: rgb+ycrcb; rgb is the thesis' rule alone)",
+        default=None,
+        help="skin colour rule (default: rgb+ycrcb, or the --config file's; rgb is the thesis' rule alone)",
     )
     p.add_argument(
         "--poses",
@@ -63,10 +65,15 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--as-tracked",
         action="store_true",
-        help="track the video up to the frame (default settings) and show the features the tracker "
-        "computed there: with the skin colour it learnt from the face, the background as learnt "
-        "so far and its own prediction (slower: every frame before it is tracked)",
+        help="track the video up to the frame and show the features the tracker computed there: with "
+        "the skin colour it learnt from the face, the background as learnt so far and its own "
+        "prediction (slower: every frame before it is tracked)",
     )
+    # How --as-tracked tracks, as `upperpose track` would: the same options give the same run.
+    p.add_argument("--focal", type=float, metavar="PX", help="with --as-tracked: focal length in pixels")
+    p.add_argument("--seed", type=int, default=None, help="with --as-tracked: the tracker's random seed (default 0)")
+    p.add_argument("--config", metavar="FILE.toml", help="with --as-tracked: settings file, as for track")
+    add_background_model_argument(p)
 
 
 def read_frames(path: str, index: int) -> tuple[npt.NDArray[np.uint8] | None, npt.NDArray[np.uint8]]:
@@ -102,9 +109,9 @@ def predicted_joints(path: str, index: int) -> npt.NDArray[np.float64] | None:
 
 
 def tracked_features(
-    video: str, index: int, background: str | None, config: FeatureConfig
+    video: str, index: int, background: str | None, config: TrackerConfig, focal: float | None = None
 ) -> tuple[npt.NDArray[np.uint8], FrameFeatures, Background, npt.NDArray[np.uint8], WorkSize]:
-    """Tracks `video` up to frame `index` and returns what the tracker saw there.
+    """Tracks `video` up to frame `index` (with `config`, at `focal`) and returns what the tracker saw there.
 
     Returns:
         The frame at the tracker's working size, its features, the background they were
@@ -113,7 +120,7 @@ def tracked_features(
     Raises:
         VideoError: the video cannot be read or is shorter than `index + 1` frames.
     """
-    with VideoTracking(video, background, config=TrackerConfig(features=config)) as run:
+    with VideoTracking(video, background, focal=focal, config=config) as run:
         count = 0
         for count, (frame, _) in enumerate(run.frames(), start=1):
             if count > index:
@@ -130,14 +137,27 @@ def run(args: argparse.Namespace) -> int:
         raise OptionError(f"--frame must be >= 0, got {args.frame}")
     if args.as_tracked and args.poses:
         raise OptionError("--as-tracked uses the tracker's own prediction: leave out --poses")
-    config = FeatureConfig(skin_space=args.skin)
+    tracking = [
+        f"--{n.replace('_', '-')}" for n in ("focal", "seed", "config", "bg_model") if getattr(args, n) is not None
+    ]
+    if tracking and not args.as_tracked:
+        raise OptionError(f"{', '.join(tracking)} set how --as-tracked tracks: give --as-tracked too")
+    config = FeatureConfig() if args.skin is None else FeatureConfig(skin_space=args.skin)
     if args.as_tracked:
+        tracker = tracker_config(args)
+        if args.skin is not None:
+            tracker = dataclasses.replace(
+                tracker, features=(tracker.features or FeatureConfig()).replace(skin_space=args.skin)
+            )
+        skin = (tracker.features or FeatureConfig()).skin_space
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always", CleanPlateWarning)
-            frame, features, background, room, work = tracked_features(args.video, args.frame, args.background, config)
+            frame, features, background, room, work = tracked_features(
+                args.video, args.frame, args.background, tracker, args.focal
+            )
         for w in caught:
             print(f"upperpose features: warning: {w.message}")
-        title = f"{Path(args.video).name}  frame {args.frame}  as tracked  skin rule: {args.skin}"
+        title = f"{Path(args.video).name}  frame {args.frame}  as tracked  skin rule: {skin}"
         if work.reduced:
             title += f"  (tracked at {work.work[0]}x{work.work[1]})"
         path = write_image(args.output, contact_sheet(frame, features, background, title, room))
@@ -163,7 +183,7 @@ def run(args: argparse.Namespace) -> int:
     if previous is not None:
         extract.prime(previous)
     features = extract(frame, None if joints is None else work.to_work(joints))
-    title = f"{Path(args.video).name}  frame {args.frame}  skin rule: {args.skin}"
+    title = f"{Path(args.video).name}  frame {args.frame}  skin rule: {config.skin_space}"
     if work.reduced:
         title += f"  (tracked at {work.work[0]}x{work.work[1]})"
     path = write_image(args.output, contact_sheet(frame, features, background, title))
