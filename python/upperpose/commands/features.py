@@ -142,14 +142,12 @@ def run(args: argparse.Namespace) -> int:
     ]
     if tracking and not args.as_tracked:
         raise OptionError(f"{', '.join(tracking)} set how --as-tracked tracks: give --as-tracked too")
-    config = FeatureConfig() if args.skin is None else FeatureConfig(skin_space=args.skin)
     if args.as_tracked:
         tracker = tracker_config(args)
+        seen_by = tracker.features or FeatureConfig()
         if args.skin is not None:
-            tracker = dataclasses.replace(
-                tracker, features=(tracker.features or FeatureConfig()).replace(skin_space=args.skin)
-            )
-        skin = (tracker.features or FeatureConfig()).skin_space
+            seen_by = seen_by.replace(skin_space=args.skin)
+            tracker = dataclasses.replace(tracker, features=seen_by)
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always", CleanPlateWarning)
             frame, features, background, room, work = tracked_features(
@@ -157,12 +155,13 @@ def run(args: argparse.Namespace) -> int:
             )
         for w in caught:
             print(f"upperpose features: warning: {w.message}")
-        title = f"{Path(args.video).name}  frame {args.frame}  as tracked  skin rule: {skin}"
+        title = f"{Path(args.video).name}  frame {args.frame}  as tracked  skin rule: {seen_by.skin_space}"
         if work.reduced:
             title += f"  (tracked at {work.work[0]}x{work.work[1]})"
         path = write_image(args.output, contact_sheet(frame, features, background, title, room))
         print(f"wrote {path}")
         return 0
+    config = FeatureConfig() if args.skin is None else FeatureConfig(skin_space=args.skin)
     previous, frame = read_frames(args.video, args.frame)
     # The features the tracker sees: a large video's at its working size.
     work = WorkSize.of(frame.shape[1], frame.shape[0], TrackerConfig().work_pixels)

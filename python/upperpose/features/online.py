@@ -172,9 +172,12 @@ class OnlineBackground:
             cv2.bitwise_and(mask, cv2.bitwise_not(grown, dst=self._busy), dst=mask)
         self.frames += 1
         if self.guessed is not None:
-            # A guess the room agrees with where it is learnt is no longer a guess.
-            agrees = mask if changed is None else cv2.bitwise_and(mask, cv2.bitwise_not(changed))
-            cv2.bitwise_and(self.guessed, cv2.bitwise_not(agrees), dst=self.guessed)
+            # A guess the room agrees with where it is learnt is no longer a guess: it stays one
+            # where not learnt or changed (in the spare buffer, no allocation a frame).
+            keep = cv2.bitwise_not(mask, dst=self._busy)
+            if changed is not None:
+                cv2.bitwise_or(keep, changed, dst=keep)
+            cv2.bitwise_and(self.guessed, keep, dst=self.guessed)
         rate = max(1.0 / self.frames, cfg.bg_online_rate)
         if changed is not None and cfg.bg_online_change_rate > rate:
             # Changed pixels go first at the faster rate, the rest at the slow one.
